@@ -1,0 +1,32 @@
+# The two set-up commands of the README: `make demo` and `make test`.
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+
+.PHONY: demo test install bench samples clean
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[test]'
+	touch $(STAMP)
+
+install: $(STAMP)
+
+samples: $(STAMP)
+	$(PY) scripts/make_synthetic_project.py sample_projects/synthetic-street
+
+demo: $(STAMP) samples
+	$(VENV)/bin/en17037 check sample_projects/seed-office/project.yaml --out out/seed-office; \
+	  code=$$?; echo "reports: out/seed-office/ (report.md, report.json, view_points.csv, sunlight_days.csv), exit code $$code"; \
+	  test $$code -le 1
+
+test: $(STAMP)
+	$(PY) -m pytest
+
+bench: $(STAMP)
+	$(PY) -m en17037cli.bench
+
+clean:
+	rm -rf $(VENV) out .pytest_cache .hypothesis

@@ -1,0 +1,3 @@
+from en17037cli.cli import main
+
+main()

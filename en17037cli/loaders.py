@@ -1,0 +1,168 @@
+"""Model file readers: each returns a :class:`Mesh` of float64 triangles with face names.
+
+OBJ is read here (n-gons, concave ones included, are ear-clipped in their best-fit plane:
+trimesh's reader fans them, which adds area outside a concave polygon). glTF/GLB, PLY, STL
+and OFF go through trimesh. Readers know nothing of layers, units or rooms.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from en17037cli.errors import InputError
+from en17037cli.geometry import triangulate_polygon
+
+
+@dataclass
+class Mesh:
+    """Triangles of one model file in the file's own units and axes.
+
+    vertices : (n, 3) float64
+    triangles : (m, 3) int
+    name_id : (m,) int, index into ``names``
+    names : list of tuples of strings (object, group and material names of a face)
+    notes : list of str, warnings collected while reading
+    """
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    name_id: np.ndarray
+    names: list
+    notes: list
+
+
+def read_obj(path: Path) -> Mesh:
+    """Read a Wavefront OBJ file: ``v``, ``f`` (any ``v/vt/vn`` form, negative indices),
+    ``o``, ``g`` and ``usemtl`` for names. Other statements are ignored."""
+    vertices: list = []
+    faces: list = []
+    face_names: list = []
+    names: dict = {}
+    obj, group, mtl = "", "", ""
+    current = None
+    notes: list = []
+    bad_faces = 0
+    try:
+        fh = path.open("r", encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read model file: {exc.strerror}") from None
+    with fh:
+        for lineno, line in enumerate(fh, 1):
+            if not line or line[0] == "#":
+                continue
+            parts = line.split()
+            if not parts:
+                continue
+            tag = parts[0]
+            if tag == "v":
+                try:
+                    vertices.append((float(parts[1]), float(parts[2]), float(parts[3])))
+                except (ValueError, IndexError):
+                    raise InputError(f"{path}:{lineno}: corrupt OBJ vertex line {line.strip()[:60]!r}; re-export the model") from None
+            elif tag == "f":
+                nv = len(vertices)
+                try:
+                    idx = [int(p.split("/", 1)[0]) for p in parts[1:]]
+                except ValueError:
+                    raise InputError(f"{path}:{lineno}: corrupt OBJ face line {line.strip()[:60]!r}; re-export the model") from None
+                idx = [i - 1 if i > 0 else nv + i for i in idx]
+                if len(idx) < 3 or min(idx) < 0 or max(idx) >= nv:
+                    if len(idx) >= 3:
+                        raise InputError(f"{path}:{lineno}: face refers to a vertex that does not exist; re-export the model")
+                    bad_faces += 1
+                    continue
+                if current is None:
+                    key = (obj, group, mtl)
+                    current = names.setdefault(key, len(names))
+                faces.append(idx)
+                face_names.append(current)
+            elif tag == "o":
+                obj = " ".join(parts[1:])
+                current = None
+            elif tag == "g":
+                group = " ".join(parts[1:])
+                current = None
+            elif tag == "usemtl":
+                mtl = " ".join(parts[1:])
+                current = None
+    if bad_faces:
+        notes.append(f"{path.name}: {bad_faces} faces with fewer than 3 vertices dropped")
+    if not faces:
+        raise InputError(f"{path}: no faces found; is this an OBJ model file?")
+    verts = np.array(vertices, dtype=np.float64).reshape(-1, 3)
+    tris, tri_names, n_failed = _triangulate_faces(verts, faces, face_names)
+    if n_failed:
+        notes.append(f"{path.name}: {n_failed} polygons could not be fully triangulated (self-intersecting or degenerate); their remaining area was dropped")
+    name_list = [None] * len(names)
+    for key, i in names.items():
+        name_list[i] = key
+    return Mesh(verts, tris, tri_names, name_list, notes)
+
+
+def _triangulate_faces(verts: np.ndarray, faces: list, face_names: list):
+    """Triangles of all faces: triangles as they are, quads and n-gons ear-clipped."""
+    sizes = np.fromiter((len(f) for f in faces), dtype=int, count=len(faces))
+    names = np.asarray(face_names, dtype=int)
+    out_tris = []
+    out_names = []
+    tri_mask = sizes == 3
+    if tri_mask.any():
+        out_tris.append(np.array([f for f, s in zip(faces, tri_mask) if s], dtype=int).reshape(-1, 3))
+        out_names.append(names[tri_mask])
+    n_failed = 0
+    for i in np.flatnonzero(~tri_mask):  # one ear clipping per n-gon
+        idx = np.asarray(faces[i], dtype=int)
+        local = triangulate_polygon(verts[idx])
+        if len(local) < len(idx) - 2:
+            n_failed += 1
+        if len(local):
+            out_tris.append(idx[local])
+            out_names.append(np.full(len(local), names[i]))
+    if not out_tris:
+        return np.zeros((0, 3), dtype=int), np.zeros(0, dtype=int), n_failed
+    return np.concatenate(out_tris), np.concatenate(out_names), n_failed
+
+
+def read_with_trimesh(path: Path) -> Mesh:
+    """Read glTF/GLB, PLY, STL or OFF through trimesh; node and geometry names become face names."""
+    import trimesh
+
+    try:
+        loaded = trimesh.load(str(path), force="scene", process=False)
+    except Exception as exc:  # trimesh raises many types for corrupt files
+        raise InputError(f"{path}: cannot read model file ({type(exc).__name__}: {exc}); re-export it") from None
+    verts, tris, ids, names = [], [], [], []
+    offset = 0
+    for node in sorted(loaded.graph.nodes_geometry):
+        transform, geom_name = loaded.graph[node]
+        geom = loaded.geometry[geom_name]
+        if not hasattr(geom, "faces") or len(geom.faces) == 0:
+            continue
+        v = np.asarray(geom.vertices, dtype=np.float64)
+        v = v @ transform[:3, :3].T + transform[:3, 3]
+        material = getattr(getattr(geom.visual, "material", None), "name", None) or ""
+        names.append((str(node), str(geom_name), str(material)))
+        verts.append(v)
+        tris.append(np.asarray(geom.faces, dtype=int) + offset)
+        ids.append(np.full(len(geom.faces), len(names) - 1))
+        offset += len(v)
+    if not tris:
+        raise InputError(f"{path}: no triangles found in the model file")
+    return Mesh(np.concatenate(verts), np.concatenate(tris), np.concatenate(ids), names, [])
+
+
+READERS = {".obj": read_obj, ".glb": read_with_trimesh, ".gltf": read_with_trimesh,
+           ".ply": read_with_trimesh, ".stl": read_with_trimesh, ".off": read_with_trimesh}
+
+#: Formats whose specification fixes units and axes (glTF 2.0: metres, +Y up).
+FORMAT_DEFAULTS = {".glb": {"units": "m", "up_axis": "y"}, ".gltf": {"units": "m", "up_axis": "y"}}
+
+
+def read_model(path: Path) -> Mesh:
+    """Read a model file with the reader registered for its extension."""
+    reader = READERS.get(path.suffix.lower())
+    if reader is None:
+        raise InputError(f"{path}: unsupported model format '{path.suffix}'; use one of {', '.join(sorted(READERS))}")
+    return reader(path)
