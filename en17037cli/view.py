@@ -6,7 +6,8 @@ For each viewpoint:
   subtends at most ``angular_resolution_deg`` (cost scales with the windows' solid angle); a
   ray through each cell's centroid and vertices classifies it (blocked / sky / landscape /
   ground, :func:`~en17037cli.raytrace.trace_through_windows`); cells whose four samples disagree
-  are split ``refine_levels`` times. Each cell weighs its exact solid angle (Van Oosterom and
+  are split, up to ``refine_levels`` times, until the point's estimated error of every layer is
+  within max(``solid_angle_rel_tolerance`` x its solid angle, ``solid_angle_abs_tolerance_sr``). Each cell weighs its exact solid angle (Van Oosterom and
   Strackee 1983), so the weights of an unobstructed planar window add up to its exact solid
   angle. Error estimate: half the solid angle of the cells still mixed after refinement.
 * **Horizontal sight angle.** A horizontal fan at eye height, ``horizontal_resolution_deg``
@@ -108,6 +109,7 @@ def solid_angles(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict) -> dic
     out = {key: np.zeros(p) for key in ("sky", "landscape", "ground", "glazing", "err_sky", "err_landscape", "err_ground")}
     out["cells"] = np.zeros(p, dtype=int)
     dist_rows, dist_w, dist_p = [], [], []
+    keys = (("sky", SKY), ("landscape", LANDSCAPE_HIT), ("ground", GROUND_HIT))
     for level in range(cfg["refine_levels"] + 1):
         if len(cells) == 0:
             break
@@ -116,12 +118,19 @@ def solid_angles(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict) -> dic
         cls, wface, odist, gdist = trace_through_windows(engine, o, d)
         cls = np.where((wface >= 0) & rg.is_room_window[np.maximum(wface, 0)], cls, BLOCKED).reshape(-1, 4)
         mixed = np.any(cls != cls[:, :1], axis=1)
+        # Error control: a point stops refining once every layer's estimated error (half the
+        # solid angle of its mixed cells) is within max(rel * layer solid angle, abs).
+        done = np.ones(p, dtype=bool)
+        for key, code in keys:
+            est = out["err_" + key] + np.bincount(pi, 0.5 * w * (mixed & np.any(cls == code, axis=1)), p)
+            value = out[key] + np.bincount(pi, w * (cls[:, 0] == code), p)
+            done &= est <= np.maximum(cfg["solid_angle_rel_tolerance"] * value, cfg["solid_angle_abs_tolerance_sr"])
         last = level == cfg["refine_levels"]
-        final = np.ones(len(cells), dtype=bool) if last else ~mixed
+        final = np.ones(len(cells), dtype=bool) if last else (~mixed | done[pi])
         fp, fw, fc = pi[final], w[final], cls[final, 0]
         out["glazing"] += np.bincount(fp, fw, p)
         out["cells"] += np.bincount(fp, minlength=p)
-        for code, key in ((SKY, "sky"), (LANDSCAPE_HIT, "landscape"), (GROUND_HIT, "ground")):
+        for key, code in keys:
             out[key] += np.bincount(fp, fw * (fc == code), p)
             unsure = mixed[final] & np.any(cls[final] == code, axis=1)
             out["err_" + key] += np.bincount(fp, 0.5 * fw * unsure, p)
@@ -136,7 +145,8 @@ def solid_angles(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict) -> dic
             dist_w.append(fw[leave])
             dist_p.append(fp[leave])
         if not last:
-            pi, cells = np.repeat(pi[mixed], 4), split4(cells[mixed])
+            split = ~final
+            pi, cells = np.repeat(pi[split], 4), split4(cells[split])
     if cfg["distance_method"] == "solid_angle":
         vals, wts = _pad_rows(np.concatenate(dist_p) if dist_p else np.zeros(0, int),
                               np.concatenate(dist_rows) if dist_rows else np.zeros(0),

@@ -1,0 +1,144 @@
+"""View engine against values worked out by hand on the box room (en17037cli.samples.BoxRoom).
+
+Room: window x in [-1, 1], z in [0.8, 2.2] in the plane y = 0, facing -y; room at y > 0. Outside:
+ground z = 0 and a long building face at y = -25 m, 10 m high.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from en17037cli import view
+from en17037cli.samples import BoxRoom, rect_solid_angle_y0
+
+POINTS = np.array([[0.3, 2.0, 1.2], [-1.2, 5.5, 1.2], [1.5, 0.6, 1.7], [0.0, 3.0, 1.7], [-1.5, 1.0, 1.2]])
+
+
+def sight_angle_deg(x0, y0, half=1.0, reveal=0.0):
+    """Horizontal angle between the window jambs seen from (x0, y0); with a reveal of depth r the
+    inner edge (at y = r) or the outer edge (y = 0) limits each side, whichever is tighter."""
+    right = min(np.arctan2(half - x0, y0), np.arctan2(half - x0, y0 - reveal))
+    left = min(np.arctan2(half + x0, y0), np.arctan2(half + x0, y0 - reveal))
+    return np.degrees(max(right + left, 0.0))
+
+
+def layer_solid_angles(p, box: BoxRoom):
+    """Sky, landscape, ground solid angles [sr] through the window: the building's top and base
+    lines, projected from p onto the window plane, cut the window into three rectangles."""
+    x0, y0, z0 = p
+    D, H = box.street, box.building_height
+    z_top = z0 + (H - z0) * y0 / (y0 + D)
+    z_base = z0 - z0 * y0 / (y0 + D)
+    (a, b), (lo, hi) = box.window_x, box.window_z
+    sky = rect_solid_angle_y0(a, b, max(z_top, lo), hi, p)
+    land = rect_solid_angle_y0(a, b, max(z_base, lo), min(z_top, hi), p)
+    ground = rect_solid_angle_y0(a, b, lo, min(z_base, hi), p)
+    return sky, land, ground
+
+
+def run(b, pts_world):
+    rg = view.room_geometry(b.scene, b.room)
+    return view.assess_points(b.engine, rg, b.scene.to_local(pts_world), b.view_cfg, b.thresholds)
+
+
+def test_sight_angle_solid_angles_and_distance_match_hand_values(build):
+    box = BoxRoom()
+    b = build(box)
+    r = run(b, POINTS)
+    for i, p in enumerate(POINTS):
+        # the bisection tolerance is 1e-4 deg per transition, two transitions per point
+        assert abs(r["h_angle_deg"][i] - sight_angle_deg(p[0], p[1])) <= max(r["h_angle_err_deg"][i], 1e-6) + 1e-9
+        assert r["h_angle_err_deg"][i] <= 0.01
+        sky, land, ground = layer_solid_angles(p, box)
+        for key, exact in (("sky", sky), ("landscape", land), ("ground", ground)):
+            err = abs(r[key][i] - exact)
+            # the issue's bound for the defaults: max(1 %, 1e-3 sr); and the estimate must cover the error
+            assert err <= max(0.01 * exact, 1e-3), (key, i, r[key][i], exact)
+            assert err <= r["err_" + key][i] + 1e-9, (key, i, err, r["err_" + key][i])
+        glazing = rect_solid_angle_y0(-1, 1, 0.8, 2.2, p)
+        # cells tile the window exactly: their weights add up to its solid angle (round-off only)
+        assert abs(r["glazing"][i] - glazing) < 1e-9
+        # a facade parallel to the window across a 25 m street gives 25 m in every direction
+        assert abs(r["distance"][i] - 25.0) < 1e-3  # float32 ray distances at 25-60 m: ~1e-5 m
+    # from the back of the room the building hides the sky entirely (z_top > window head)
+    assert r["sky"][1] == 0.0 and not r["visible"]["sky"][1]
+
+
+@pytest.mark.parametrize("reveal", [0.4])
+def test_reveals_reduce_the_sight_angle_to_inner_and_outer_edges(build, reveal):
+    box = BoxRoom(wall_thickness=reveal)
+    b = build(box)
+    pts = POINTS.copy()
+    pts[:, 1] += reveal  # keep the points at the same distance from the inner wall face
+    r = run(b, pts)
+    for i, p in enumerate(pts):
+        expected = sight_angle_deg(p[0], p[1], reveal=reveal)
+        assert abs(r["h_angle_deg"][i] - expected) <= max(r["h_angle_err_deg"][i], 1e-6) + 1e-9, (i, r["h_angle_deg"][i], expected)
+    # and it is smaller than without reveals wherever a reveal is in the way
+    plain = [sight_angle_deg(p[0], p[1]) for p in pts]
+    assert np.all(r["h_angle_deg"] <= np.array(plain) + 1e-6)
+
+
+def test_closed_shutter_gives_no_view(build):
+    b = build(BoxRoom(shutter=True))
+    r = run(b, POINTS)
+    for key in ("sky", "landscape", "ground", "h_angle_deg"):
+        assert np.all(r[key] == 0.0), key
+    assert np.all(r["level"] == 0)
+
+
+def test_no_leak_through_shared_edges_of_a_split_window(build):
+    """A million rays aimed at the shared edges of a window split into 50 strips of triangles,
+    behind a closed shutter: not one may leave; without the shutter every one must."""
+    shut = build(BoxRoom(shutter=True, window_split=50), sub="shut")
+    open_ = build(BoxRoom(window_split=50), sub="open")
+    rng = np.random.default_rng(0)
+    n = 1_000_000
+    xs = np.linspace(-1, 1, 51)[1:-1]
+    target = np.column_stack([rng.choice(xs, n), np.zeros(n), rng.uniform(0.81, 2.19, n)])
+    half = n // 2  # half the rays on the diagonals of the strips' triangles
+    strip = rng.integers(0, 50, half)
+    u = rng.uniform(0.01, 0.99, half)
+    x0 = -1 + strip * 0.04
+    target[:half, 0] = x0 + 0.04 * u
+    target[:half, 2] = 0.8 + 1.4 * u
+    origin = np.column_stack([rng.uniform(-1.8, 1.8, n), rng.uniform(0.5, 5.5, n), rng.uniform(0.3, 2.7, n)])
+    d = target - origin
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    from en17037cli.raytrace import BLOCKED, trace_through_windows
+
+    cls, _, _, _ = trace_through_windows(open_.engine, open_.scene.to_local(origin), d)
+    assert np.count_nonzero(cls == BLOCKED) == 0
+    # The panel overlaps the opening by 5 cm only: a grazing ray can pass beside it, which is
+    # geometry, not a leak. Keep the rays that cross the panel's plane (y = 0.05) on the panel,
+    # half of them aimed at its own diagonal (the edge its two triangles share).
+    s_diag = rng.uniform(0.001, 0.999, half)
+    on_diag = np.column_stack([-1.05 + 2.1 * s_diag, np.full(half, 0.05), 0.75 + 1.5 * s_diag])
+    d2 = on_diag - origin[:half]
+    d2 /= np.linalg.norm(d2, axis=1, keepdims=True)
+    origin2 = np.concatenate([origin, origin[:half]])
+    d_all = np.concatenate([d, d2])
+    t = (0.05 - origin2[:, 1]) / d_all[:, 1]
+    hit = origin2 + t[:, None] * d_all
+    on_panel = (np.abs(hit[:, 0]) < 1.05 - 1e-6) & (hit[:, 2] > 0.75 + 1e-6) & (hit[:, 2] < 2.25 - 1e-6)
+    assert on_panel.sum() > 1_000_000
+    cls, _, _, _ = trace_through_windows(shut.engine, shut.scene.to_local(origin2[on_panel]), d_all[on_panel])
+    assert np.count_nonzero(cls != BLOCKED) == 0
+    # the split window is still one window
+    assert len(open_.scene.windows) == 1 and len(open_.scene.windows[0].face_ids) == 100
+
+
+def test_room_levels_from_the_grid(build):
+    b = build(BoxRoom(), view={"grid_spacing_m": 1.0})
+    res = view.assess_room(b.engine, b.scene, b.room, b.view_cfg, b.thresholds)
+    assert [e["eye_height_m"] for e in res["eye_heights"]] == [1.2, 1.7]
+    for e in res["eye_heights"]:
+        v = e["values"]
+        pts = e["points_local"] + b.scene.origin
+        expected = np.array([sight_angle_deg(x, y) for x, y in pts[:, :2]])
+        assert np.all(np.abs(v["h_angle_deg"] - expected) <= 1e-3)
+        # 25 m street: the distance criterion is 'medium' (>= 20 m, < 50 m) at every point
+        assert np.all(v["level_distance"] == 2)
+        assert e["level_by_criterion"]["outside_distance"] == 2
+        # the room level is the lowest of the three criteria
+        assert e["level"] == min(e["level_by_criterion"].values())
