@@ -22,7 +22,7 @@ class BoxRoom:
     window_x: tuple = (-1.0, 1.0)
     window_z: tuple = (0.8, 2.2)
     street: float = 25.0
-    building_height: float = 10.0
+    building_height: float = 10.0  # 0: no building
     building_length: float = 400.0
     ground_size: float = 400.0
     shutter: bool = False
@@ -71,7 +71,9 @@ def box_room_polygons(b: BoxRoom) -> dict:
     L, s, H = b.building_length / 2, b.street, b.building_height
     building = [_rect_y(-s, -L, L, 0, H), _rect_y(-s - 10, -L, L, 0, H), _rect_z(H, -L, L, -s - 10, -s),
                 _rect_x(-L, -s - 10, -s, 0, H), _rect_x(L, -s - 10, -s, 0, H)]
-    out = {"room": room, "glazing": glazing, "ground": ground, "building": building}
+    out = {"room": room, "glazing": glazing, "ground": ground}
+    if H > 0:
+        out["building"] = building
     if b.shutter:
         out["shutter"] = [_rect_y(0.05, wx0 - 0.05, wx1 + 0.05, wz0 - 0.05, wz1 + 0.05)]
     return out
