@@ -203,7 +203,9 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
     for i, room in enumerate(config["rooms"]):
         vp = room.get("view_points")
         if isinstance(vp, str):
-            project.view_points[room["name"]] = read_points_csv(project.resolve(vp), f"{path}: rooms[{i}].view_points")
+            vp = [vp]
+        if vp and all(isinstance(v, str) for v in vp):
+            project.view_points[room["name"]] = [p for f in vp for p in read_points_csv(project.resolve(f), f"{path}: rooms[{i}].view_points")]
         elif vp is not None:
             project.view_points[room["name"]] = vp
     return project

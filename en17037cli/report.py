@@ -28,11 +28,12 @@ REPORT_FILES = ("report.json", "view_points.csv", "sunlight_days.csv", "report.m
 VIEW_METHOD = {
     "solid_angle_sr": "window triangles subdivided per viewpoint to view.angular_resolution_deg, each cell weighted by "
                       "its exact solid angle (Van Oosterom and Strackee 1983) and classified by rays through its centroid "
-                      "and vertices; cells whose samples disagree split view.refine_levels times; error = half the solid "
-                      "angle of the cells still mixed",
+                      "and vertices; cells whose samples disagree split (at most view.refine_levels times) until each layer's "
+                      "error estimate is within max(view.solid_angle_rel_tolerance x value, view.solid_angle_abs_tolerance_sr); "
+                      "error = half the solid angle of the cells still mixed",
     "horizontal_sight_angle_deg": "horizontal fan every view.horizontal_resolution_deg, each change between leaving "
                                   "through a window and blocked located by bisection to view.angle_tolerance_deg; "
-                                  "error = sum of remaining half-brackets",
+                                  "error = sum of remaining bracket widths",
     "outside_distance_m": "weighted statistic (view.distance_statistic) of the distance from the glazing plane to the "
                           "first landscape face, perpendicular to the window; error = gap to the neighbouring sampled distance",
 }
@@ -282,8 +283,11 @@ def report_markdown(report: dict) -> str:
               f"- Location: {cfg['location']['latitude']} N, {cfg['location']['longitude']} E, {cfg['location']['timezone']}; "
               f"true north {cfg['model']['true_north_deg']} deg clockwise from model +Y."]
     t = cfg["thresholds"]
-    L += [f"- Thresholds: sight angle {t['horizontal_sight_angle_deg']} deg, outside distance {t['outside_distance_m']} m, "
-          f"sunlight {t['sunlight_hours']} h."]
+    def fmt(d):
+        return " / ".join(f"{d[k]:g}" for k in LEVELS[1:])
+
+    L += [f"- Thresholds (minimum / medium / high): sight angle {fmt(t['horizontal_sight_angle_deg'])} deg, outside distance "
+          f"{fmt(t['outside_distance_m'])} m, sunlight {fmt(t['sunlight_hours'])} h."]
     for room in report["rooms"]:
         L += ["", f"## Room {room['name']}", ""]
         for w in room["windows"]:

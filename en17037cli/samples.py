@@ -138,3 +138,27 @@ def rect_solid_angle_y0(x1: float, x2: float, z1: float, z2: float, point) -> fl
     if x2 <= x1 or z2 <= z1:
         return 0.0
     return float(F(x2 - x0, z2 - z0) - F(x1 - x0, z2 - z0) - F(x2 - x0, z1 - z0) + F(x1 - x0, z1 - z0))
+
+
+def sight_angle_deg(x0: float, y0: float, half: float = 1.0, reveal: float = 0.0) -> float:
+    """Horizontal sight angle [deg] of the box room's window (x in [-half, half] at y = 0) from
+    (x0, y0); with reveals of depth r the inner edge (y = r) or the outer edge (y = 0) limits each
+    side, whichever is tighter."""
+    right = min(np.arctan2(half - x0, y0), np.arctan2(half - x0, y0 - reveal))
+    left = min(np.arctan2(half + x0, y0), np.arctan2(half + x0, y0 - reveal))
+    return float(np.degrees(max(right + left, 0.0)))
+
+
+def layer_solid_angles(p, box: BoxRoom) -> tuple[float, float, float]:
+    """Sky, landscape and ground solid angles [sr] seen through the box room's window from p: the
+    building's top and base lines, projected from p onto the window plane, cut the window into
+    three rectangles (zero-thickness wall)."""
+    x0, y0, z0 = p
+    D, H = box.street, box.building_height
+    z_top = z0 + (H - z0) * y0 / (y0 + D)
+    z_base = z0 - z0 * y0 / (y0 + D)
+    (a, b), (lo, hi) = box.window_x, box.window_z
+    sky = rect_solid_angle_y0(a, b, max(z_top, lo), hi, p)
+    land = rect_solid_angle_y0(a, b, max(z_base, lo), min(z_top, hi), p)
+    ground = rect_solid_angle_y0(a, b, lo, min(z_base, hi), p)
+    return sky, land, ground

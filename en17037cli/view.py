@@ -12,7 +12,7 @@ For each viewpoint:
   angle. Error estimate: half the solid angle of the cells still mixed after refinement.
 * **Horizontal sight angle.** A horizontal fan at eye height, ``horizontal_resolution_deg``
   apart; every change between "leaves through a window" and "blocked" is located by bisection
-  to ``angle_tolerance_deg``. Error estimate: the remaining bracket half-widths, summed.
+  to ``angle_tolerance_deg``. Error estimate: the remaining bracket widths, summed (a bound).
 * **Outside distance.** ``horizontal`` (default): over the leaving horizontal directions, the
   distance from the glazing plane to the first ``landscape`` face, measured horizontally and
   perpendicular to the window; ``solid_angle``: the perpendicular distance (delta_1 - delta_0)
@@ -213,7 +213,8 @@ def horizontal(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict) -> dict:
     angle = (full.reshape(p, m).sum(axis=1) + np.bincount(trans // m, part, p))
     out = {
         "angle_deg": np.degrees(angle),
-        "angle_err_deg": np.degrees(np.bincount(trans // m, 0.5 * (hi - lo), p)),
+        # full bracket width: a bound even where float32 rays blur the bracket ends
+        "angle_err_deg": np.degrees(np.bincount(trans // m, hi - lo, p)),
         "transitions": np.bincount(trans // m, minlength=p),
     }
     if cfg["distance_method"] == "horizontal":

@@ -126,3 +126,13 @@ def test_degenerate_and_nan_faces_are_dropped_with_a_note(tmp_path):
     s = build_scene(load_project(path))
     assert any("2 degenerate, NaN or infinite faces dropped" in n for n in s.notes)
     assert np.count_nonzero(s.layer == LANDSCAPE) == 10
+
+
+def test_paper_viewpoint_grids_load_as_given():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1] / "sample_projects" / "seed-office"
+    p = load_project(root / "project-paper-grid.yaml")
+    pts = np.array(p.view_points["office"])
+    assert pts.shape == (2800, 3)
+    assert sorted(set(np.round(pts[:, 2] - 9.3, 3))) == [1.2, 1.7]

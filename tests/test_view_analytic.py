@@ -9,31 +9,9 @@ import numpy as np
 import pytest
 
 from en17037cli import view
-from en17037cli.samples import BoxRoom, rect_solid_angle_y0
+from en17037cli.samples import BoxRoom, layer_solid_angles, rect_solid_angle_y0, sight_angle_deg
 
 POINTS = np.array([[0.3, 2.0, 1.2], [-1.2, 5.5, 1.2], [1.5, 0.6, 1.7], [0.0, 3.0, 1.7], [-1.5, 1.0, 1.2]])
-
-
-def sight_angle_deg(x0, y0, half=1.0, reveal=0.0):
-    """Horizontal angle between the window jambs seen from (x0, y0); with a reveal of depth r the
-    inner edge (at y = r) or the outer edge (y = 0) limits each side, whichever is tighter."""
-    right = min(np.arctan2(half - x0, y0), np.arctan2(half - x0, y0 - reveal))
-    left = min(np.arctan2(half + x0, y0), np.arctan2(half + x0, y0 - reveal))
-    return np.degrees(max(right + left, 0.0))
-
-
-def layer_solid_angles(p, box: BoxRoom):
-    """Sky, landscape, ground solid angles [sr] through the window: the building's top and base
-    lines, projected from p onto the window plane, cut the window into three rectangles."""
-    x0, y0, z0 = p
-    D, H = box.street, box.building_height
-    z_top = z0 + (H - z0) * y0 / (y0 + D)
-    z_base = z0 - z0 * y0 / (y0 + D)
-    (a, b), (lo, hi) = box.window_x, box.window_z
-    sky = rect_solid_angle_y0(a, b, max(z_top, lo), hi, p)
-    land = rect_solid_angle_y0(a, b, max(z_base, lo), min(z_top, hi), p)
-    ground = rect_solid_angle_y0(a, b, lo, min(z_base, hi), p)
-    return sky, land, ground
 
 
 def run(b, pts_world):
