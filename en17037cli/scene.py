@@ -175,7 +175,7 @@ def _assign_layers(spec: dict, mesh, where: str, stem: str):
 def load_geometry(project):
     """Read every model file into world-frame float64 triangles with layers.
 
-    Returns (vertices, triangles, layer, obstructs_sun, names, name_id, notes, hashes).
+    Returns (vertices, triangles, layer, obstructs_sun, names, name_id, notes, warnings, hashes).
     """
     model = project.config["model"]
     all_v, all_t, all_l, all_s, all_id, names, notes, hashes = [], [], [], [], [], [], [], {}
@@ -212,12 +212,14 @@ def load_geometry(project):
         all_id.append(mesh.name_id[keep] + len(names))
         names.extend(tuple(n) + (path.stem,) for n in mesh.names)
         offset += len(verts)
+    warnings = [n for n in notes if "could not be fully triangulated" in n or "dropped" in n]
+    notes = [n for n in notes if n not in warnings]
     if dropped:
-        notes.append(f"{dropped} degenerate, NaN or infinite faces dropped")
+        warnings.append(f"{dropped} degenerate, NaN or infinite faces dropped")
     if not all_v:
         raise InputError(f"{project.path.name}: model.files: no geometry loaded (every file is 'ignore')")
     return (np.concatenate(all_v), np.concatenate(all_t).astype(np.int64), np.concatenate(all_l).astype(np.int8),
-            np.concatenate(all_s), names, np.concatenate(all_id), notes, hashes)
+            np.concatenate(all_s), names, np.concatenate(all_id), notes, warnings, hashes)
 
 
 def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarray, names: list, name_id: np.ndarray) -> list:
@@ -303,7 +305,7 @@ def build_scene(project) -> Scene:
     """Load the project's geometry and resolve windows and rooms (see module docstring)."""
     import shapely
 
-    verts, tris, layer, sun, names, name_id, notes, hashes = load_geometry(project)
+    verts, tris, layer, sun, names, name_id, notes, warnings, hashes = load_geometry(project)
     used = np.unique(tris)
     win_mask = layer == WINDOW
     if not np.any(win_mask):
@@ -315,7 +317,7 @@ def build_scene(project) -> Scene:
     local[np.setdiff1d(np.arange(len(local)), used)] = 0.0
     windows = find_windows(local, tris, np.flatnonzero(win_mask), names, name_id)
     scene = Scene(origin=origin, vertices=local, triangles=tris, layer=layer, obstructs_sun=sun, names=names,
-                  name_id=name_id, windows=windows, notes=notes, file_hashes=hashes,
+                  name_id=name_id, windows=windows, notes=notes, warnings=warnings, file_hashes=hashes,
                   true_north_deg=float(project.config["model"]["true_north_deg"]))
     for i, rc in enumerate(project.config["rooms"]):
         where = f"{project.path.name}: rooms[{i}] '{rc['name']}'"

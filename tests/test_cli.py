@@ -177,3 +177,20 @@ def test_installed_console_script(project, tmp_path):
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     assert "reports in" in p.stderr
+
+
+def test_seed_office_view_runs_at_both_eye_heights(tmp_path):
+    out = tmp_path / "seedview"
+    r = invoke("check", SEED, "--out", out, "--quiet", "--only", "view", "--set", "view.grid_spacing_m=1.5",
+               "--set", "view.angular_resolution_deg=4", "--set", "view.refine_levels=1")
+    assert r.exit_code in (0, 1), r.output
+    report = json.loads((out / "report.json").read_text())
+    jsonschema.Draft202012Validator(load_schema("report")).validate(report)
+    v = report["rooms"][0]["view"]
+    assert [e["eye_height_m"] for e in v["eye_heights"]] == [1.2, 1.7]
+    pts = v["eye_heights"][0]["points"]
+    assert len(pts) > 5
+    # the 2.90 m window seen from the utilised area: every point has a view, none wider than 180 deg
+    assert all(0 < p["horizontal_sight_angle_deg"] < 180 for p in pts)
+    assert any("84 degenerate, NaN or infinite faces dropped" in w for w in report["warnings"])  # counted, not silent
+    assert "| office | **view out (5.2)** |" in (out / "report.md").read_text()

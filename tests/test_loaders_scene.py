@@ -124,7 +124,7 @@ def test_degenerate_and_nan_faces_are_dropped_with_a_note(tmp_path):
     with open(tmp_path / "d" / "model.obj", "a") as fh:
         fh.write("o building\nv 0 0 0\nv 1 1 1\nv 2 2 2\nf -3 -2 -1\nv nan 0 0\nv 0 1 0\nv 0 0 1\nf -3 -2 -1\n")
     s = build_scene(load_project(path))
-    assert any("2 degenerate, NaN or infinite faces dropped" in n for n in s.notes)
+    assert "2 degenerate, NaN or infinite faces dropped" in s.warnings
     assert np.count_nonzero(s.layer == LANDSCAPE) == 10
 
 
