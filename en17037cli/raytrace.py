@@ -16,6 +16,9 @@ import numpy as np
 from en17037cli.geometry import check_shape
 from en17037cli.scene import GROUND, INTERIOR, LANDSCAPE, WINDOW
 
+#: A point lying on a glazing plane is moved this far into the room before rays start from it [m].
+GLAZING_OFFSET_M = 1e-3
+
 #: Rays per embreex call; large enough to amortise the call, small enough to share two cores.
 CHUNK = 1 << 16
 

@@ -22,10 +22,9 @@ import numpy as np
 
 from en17037cli import standard
 from en17037cli.errors import InputError
+from en17037cli.raytrace import GLAZING_OFFSET_M
 from en17037cli.sun.position import direction_vectors, solar_position
 
-#: P is moved this far into the room when it lies on the glazing plane [m].
-GLAZING_OFFSET_M = 1e-3
 #: Start of the reveal search, outside the glazing plane [m], and the lateral step beyond a jamb [m].
 REVEAL_PROBE_OUTSIDE_M = 0.01
 REVEAL_PROBE_BEYOND_JAMB_M = 0.02
@@ -60,16 +59,14 @@ def reveal_depth(engine, start: np.ndarray, normal: np.ndarray, axis: np.ndarray
     dirs = np.tile(-normal, (2, 1))
     travelled = np.zeros(2)
     deepest = 0.0
-    tri_n = None
+    scene = engine.scene
     for _ in range(4):  # a few crossings: outer face, inner face, beyond
         face, t = engine.first_hit("interior", origins, dirs)
         hit = face >= 0
         if not hit.any():
             break
-        if tri_n is None:
-            v = engine.scene.vertices[engine.scene.triangles]
-            tri_n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
-        fn = tri_n[np.maximum(face, 0)]
+        v = scene.vertices[scene.triangles[np.maximum(face, 0)]]  # the two faces hit, not the whole scene
+        fn = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
         cos = np.abs(fn @ normal) / np.maximum(np.linalg.norm(fn, axis=1), 1e-30)
         depth = travelled + np.where(hit, t, np.inf) - REVEAL_PROBE_OUTSIDE_M
         ok = hit & (cos > 0.9) & (depth <= max_depth)

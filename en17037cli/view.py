@@ -27,11 +27,9 @@ import numpy as np
 
 from en17037cli import standard
 from en17037cli.errors import InputError
-from en17037cli.raytrace import BLOCKED, GROUND_HIT, LANDSCAPE_HIT, SKY, trace_through_windows
+from en17037cli.raytrace import BLOCKED, GLAZING_OFFSET_M, GROUND_HIT, LANDSCAPE_HIT, SKY, trace_through_windows
 from en17037cli.view_math import base_cells, cell_samples, cell_weights, grid_points, split4, weighted_statistic
 
-#: A viewpoint closer than this to a window plane is moved this far into the room [m].
-GLAZING_OFFSET_M = 1e-3
 #: Points per chunk (bounds memory: cells of all points in a chunk are held at once).
 POINT_CHUNK = 16
 
