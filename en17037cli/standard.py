@@ -86,7 +86,9 @@ def level_from_layers(sky, landscape, ground) -> np.ndarray:
 
 
 def near_threshold(values, errors, thresholds: dict[str, float]) -> np.ndarray:
-    """True where a value lies within its error estimate of any threshold (the level could flip).
+    """True where a value lies within its (positive) error estimate of a threshold: the level could flip.
+
+    A value with zero error is exact and never near, even when it equals a threshold.
 
     Parameters
     ----------
@@ -97,7 +99,7 @@ def near_threshold(values, errors, thresholds: dict[str, float]) -> np.ndarray:
     e = np.asarray(errors, dtype=float)[..., None]
     t = np.array([thresholds[k] for k in LEVELS[1:]], dtype=float)
     with np.errstate(invalid="ignore"):
-        return np.any(np.isfinite(v) & (np.abs(v - t) <= e), axis=-1)
+        return np.any(np.isfinite(v) & (e > 0) & (np.abs(v - t) <= e), axis=-1)
 
 
 def room_level(point_levels, area_fraction: float) -> tuple[int, dict[str, float]]:

@@ -65,3 +65,5 @@ def test_near_threshold():
     assert near_threshold([19.9995], [0.001], t).tolist() == [True]
     assert near_threshold([19.99], [0.001], t).tolist() == [False]
     assert near_threshold([np.inf], [np.inf], t).tolist() == [False]
+    # an exact value (zero error) cannot flip, even at a threshold
+    assert near_threshold([20.0], [0.0], t).tolist() == [False]

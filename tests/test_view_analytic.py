@@ -38,8 +38,10 @@ def test_sight_angle_solid_angles_and_distance_match_hand_values(build):
         assert abs(r["glazing"][i] - glazing) < 1e-9
         # a facade parallel to the window across a 25 m street gives 25 m in every direction
         assert abs(r["distance"][i] - 25.0) < 1e-3  # float32 ray distances at 25-60 m: ~1e-5 m
-    # from the back of the room the building hides the sky entirely (z_top > window head)
+    # from the back of the room the building hides the sky entirely (z_top > window head); an
+    # exact zero is not 'near' the 0 sr layer threshold
     assert r["sky"][1] == 0.0 and not r["visible"]["sky"][1]
+    assert not r["near"][1]
 
 
 @pytest.mark.parametrize("reveal", [0.4])
