@@ -96,13 +96,6 @@ class Scene:
     file_hashes: dict = field(default_factory=dict)
     true_north_deg: float = 0.0
 
-    @property
-    def extent_m(self) -> float:
-        """Diagonal of the scene's bounding box [m]."""
-        if len(self.vertices) == 0:
-            return 1.0
-        return float(np.linalg.norm(self.vertices.max(axis=0) - self.vertices.min(axis=0))) or 1.0
-
     def faces_of(self, mask: np.ndarray) -> np.ndarray:
         """(k, 3, 3) float [m] triangles of the faces selected by a boolean mask."""
         return self.vertices[self.triangles[mask]]
@@ -112,11 +105,6 @@ class Scene:
 
     def to_world(self, points) -> np.ndarray:
         return np.asarray(points, dtype=np.float64) + self.origin
-
-    def face_label(self, face: int) -> str:
-        obj, group, mtl = (list(self.names[self.name_id[face]]) + ["", "", ""])[:3]
-        parts = [f"object '{obj}'" if obj else "", f"group '{group}'" if group else "", f"material '{mtl}'" if mtl else ""]
-        return ", ".join(p for p in parts if p) or "unnamed"
 
 
 def _file_hash(path: Path) -> str:
@@ -306,7 +294,6 @@ def build_scene(project) -> Scene:
     import shapely
 
     verts, tris, layer, sun, names, name_id, notes, warnings, hashes = load_geometry(project)
-    used = np.unique(tris)
     win_mask = layer == WINDOW
     if not np.any(win_mask):
         raise InputError(f"{project.path.name}: model.files: no face is on the 'window' layer; assign the glazing to layer: window")
@@ -314,7 +301,6 @@ def build_scene(project) -> Scene:
     wv = verts[tris[win_mask]].reshape(-1, 3)
     origin = 0.5 * (wv.min(axis=0) + wv.max(axis=0))
     local = verts - origin
-    local[np.setdiff1d(np.arange(len(local)), used)] = 0.0
     windows = find_windows(local, tris, np.flatnonzero(win_mask), names, name_id)
     scene = Scene(origin=origin, vertices=local, triangles=tris, layer=layer, obstructs_sun=sun, names=names,
                   name_id=name_id, windows=windows, notes=notes, warnings=warnings, file_hashes=hashes,
