@@ -23,14 +23,14 @@ class Mesh:
     triangles : (m, 3) int
     name_id : (m,) int, index into ``names``
     names : list of tuples of strings (object, group and material names of a face)
-    notes : list of str, warnings collected while reading
+    warnings : list of str, what was dropped or could not be read as it is
     """
 
     vertices: np.ndarray
     triangles: np.ndarray
     name_id: np.ndarray
     names: list
-    notes: list
+    warnings: list
 
 
 def read_obj(path: Path) -> Mesh:
@@ -42,7 +42,7 @@ def read_obj(path: Path) -> Mesh:
     names: dict = {}
     obj, group, mtl = "", "", ""
     current = None
-    notes: list = []
+    warnings: list = []
     bad_faces = 0
     try:
         fh = path.open("r", encoding="utf-8", errors="replace")
@@ -88,17 +88,17 @@ def read_obj(path: Path) -> Mesh:
                 mtl = " ".join(parts[1:])
                 current = None
     if bad_faces:
-        notes.append(f"{path.name}: {bad_faces} faces with fewer than 3 vertices dropped")
+        warnings.append(f"{path.name}: {bad_faces} faces with fewer than 3 vertices dropped")
     if not faces:
         raise InputError(f"{path}: no faces found; is this an OBJ model file?")
     verts = np.array(vertices, dtype=np.float64).reshape(-1, 3)
     tris, tri_names, n_failed = _triangulate_faces(verts, faces, face_names)
     if n_failed:
-        notes.append(f"{path.name}: {n_failed} polygons could not be fully triangulated (self-intersecting or degenerate); their remaining area was dropped")
+        warnings.append(f"{path.name}: {n_failed} polygons could not be fully triangulated (self-intersecting or degenerate); their remaining area was dropped")
     name_list = [None] * len(names)
     for key, i in names.items():
         name_list[i] = key
-    return Mesh(verts, tris, tri_names, name_list, notes)
+    return Mesh(verts, tris, tri_names, name_list, warnings)
 
 
 def _triangulate_faces(verts: np.ndarray, faces: list, face_names: list):

@@ -166,7 +166,7 @@ def load_geometry(project):
     Returns (vertices, triangles, layer, obstructs_sun, names, name_id, notes, warnings, hashes).
     """
     model = project.config["model"]
-    all_v, all_t, all_l, all_s, all_id, names, notes, hashes = [], [], [], [], [], [], [], {}
+    all_v, all_t, all_l, all_s, all_id, names, notes, warnings, hashes = [], [], [], [], [], [], [], [], {}
     offset = 0
     dropped = 0
     for i, spec in enumerate(model["files"]):
@@ -179,7 +179,7 @@ def load_geometry(project):
             continue
         hashes[spec["path"]] = _file_hash(path)
         mesh = read_model(path)
-        notes.extend(mesh.notes)
+        warnings.extend(mesh.warnings)
         fmt = FORMAT_DEFAULTS.get(path.suffix.lower(), {})
         units = spec.get("units", fmt.get("units", model["units"]))
         up = spec.get("up_axis", fmt.get("up_axis", model["up_axis"]))
@@ -200,8 +200,6 @@ def load_geometry(project):
         all_id.append(mesh.name_id[keep] + len(names))
         names.extend(tuple(n) + (path.stem,) for n in mesh.names)
         offset += len(verts)
-    warnings = [n for n in notes if "could not be fully triangulated" in n or "dropped" in n]
-    notes = [n for n in notes if n not in warnings]
     if dropped:
         warnings.append(f"{dropped} degenerate, NaN or infinite faces dropped")
     if not all_v:
