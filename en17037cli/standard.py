@@ -85,7 +85,7 @@ def level_from_layers(sky, landscape, ground) -> np.ndarray:
     )
 
 
-def near_threshold(values, errors, thresholds: dict[str, float]) -> np.ndarray:
+def near_threshold(values, errors, thresholds) -> np.ndarray:
     """True where a value lies within its (positive) error estimate of a threshold: the level could flip.
 
     A value with zero error is exact and never near, even when it equals a threshold.
@@ -94,10 +94,14 @@ def near_threshold(values, errors, thresholds: dict[str, float]) -> np.ndarray:
     ----------
     values, errors : (n,) float
         Value and its error estimate, in the thresholds' unit.
+    thresholds : dict or sequence of float
+        ``{"minimum": a, "medium": b, "high": c}``, or the threshold values themselves (e.g. the
+        one solid angle above which a view layer counts).
     """
     v = np.asarray(values, dtype=float)[..., None]
     e = np.asarray(errors, dtype=float)[..., None]
-    t = np.array([thresholds[k] for k in LEVELS[1:]], dtype=float)
+    levels = [thresholds[k] for k in LEVELS[1:]] if isinstance(thresholds, dict) else list(thresholds)
+    t = np.array(levels, dtype=float)
     with np.errstate(invalid="ignore"):
         return np.any(np.isfinite(v) & (e > 0) & (np.abs(v - t) <= e), axis=-1)
 

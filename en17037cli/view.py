@@ -254,7 +254,7 @@ def assess_points(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict, thres
     near = (
         standard.near_threshold(r["h_angle_deg"], r["h_angle_err_deg"], thresholds["horizontal_sight_angle_deg"])
         | standard.near_threshold(dist, gap, thresholds["outside_distance_m"])
-        | np.any([(r["err_" + k] > 0) & (np.abs(r[k] - thr) <= r["err_" + k]) for k in ("sky", "landscape", "ground")], axis=0)
+        | np.any([standard.near_threshold(r[k], r["err_" + k], [thr]) for k in ("sky", "landscape", "ground")], axis=0)
     )
     r.update(distance=dist, distance_gap=gap, visible=visible, level_angle=lv_angle, level_distance=lv_dist,
              level_layers=lv_layers, level=level, near=near)

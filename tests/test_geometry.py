@@ -67,3 +67,6 @@ def test_near_threshold():
     assert near_threshold([np.inf], [np.inf], t).tolist() == [False]
     # an exact value (zero error) cannot flip, even at a threshold
     assert near_threshold([20.0], [0.0], t).tolist() == [False]
+    # a single threshold value (a view layer's solid angle): 0 sr exactly is not near 0 sr,
+    # 4e-4 sr with a 5e-4 sr estimate is
+    assert near_threshold([0.0, 4e-4, 2e-3], [0.0, 5e-4, 5e-4], [0.0]).tolist() == [False, True, False]
