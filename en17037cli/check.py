@@ -45,11 +45,12 @@ def run_check(project, only: str | None = None, progress=None) -> dict:
     try:
         view_results = {}
         if run_view:
-            total = sum(view.count_points(scene, r, cfg["view"], project.view_points.get(r.name)) for r in scene.rooms)
+            planned = {r.name: view.viewpoints(scene, r, cfg["view"], project.view_points.get(r.name)) for r in scene.rooms}
+            total = sum(len(p) for groups, _ in planned.values() for _, p in groups)
             advance = progress(total, "view") if progress else None
             for room in scene.rooms:  # one pass per room
                 view_results[room.name] = view.assess_room(engine, scene, room, cfg["view"], cfg["thresholds"],
-                                                           project.view_points.get(room.name), advance)
+                                                           progress=advance, planned=planned[room.name])
             timer.stage("view")
         sun_results = {}
         if run_sun:

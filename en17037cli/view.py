@@ -261,15 +261,18 @@ def assess_points(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict, thres
     return r
 
 
-def assess_room(engine, scene, room, cfg: dict, thresholds: dict, explicit=None, progress=None) -> dict:
+def assess_room(engine, scene, room, cfg: dict, thresholds: dict, explicit=None, progress=None, planned=None) -> dict:
     """View result of one room: per eye height, per point values, shares and levels.
+
+    ``planned`` is the room's :func:`viewpoints` result when the caller already made it (to size a
+    progress bar); otherwise the viewpoints are made here.
 
     Returns
     -------
     dict with ``eye_heights`` (list of dicts holding numpy arrays), ``level`` (str), ``notes``.
     """
     rg = room_geometry(scene, room)
-    groups, notes = viewpoints(scene, room, cfg, explicit)
+    groups, notes = planned if planned is not None else viewpoints(scene, room, cfg, explicit)
     eye = []
     for h, pts in groups:  # one pass per eye height (two by default)
         r = assess_points(engine, rg, pts, cfg, thresholds, progress)
@@ -287,8 +290,3 @@ def assess_room(engine, scene, room, cfg: dict, thresholds: dict, explicit=None,
     level = min(e["level"] for e in eye) if eye else 0
     return {"eye_heights": eye, "level": level, "notes": notes}
 
-
-def count_points(scene, room, cfg: dict, explicit) -> int:
-    """Number of viewpoints of a room over all eye heights (for progress bars)."""
-    groups, _ = viewpoints(scene, room, cfg, explicit)
-    return sum(len(p) for _, p in groups)
