@@ -153,6 +153,46 @@ def rectangle_solid_angle(a: float, b: float, d: float) -> float:
     return float(np.arctan(a * b / (d * np.sqrt(a * a + b * b + d * d))))
 
 
+def window_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Horizontal width axis and in-plane 'up' axis of a window with unit ``normal`` (3,).
+
+    For a horizontal window (skylight) the width axis is the local x axis.
+    """
+    a = np.cross([0.0, 0.0, 1.0], normal)
+    if np.linalg.norm(a) < 1e-9:
+        a = np.array([1.0, 0.0, 0.0])
+    a /= np.linalg.norm(a)
+    up = np.cross(normal, a)
+    return a, up / np.linalg.norm(up)
+
+
+def offset_rectangle_solid_angle(x0, x1, y0, y1) -> np.ndarray:
+    """Solid angle of rectangles [x0, x1] x [y0, y1] on the plane at unit distance from the viewpoint.
+
+    Coordinates are measured in that plane from the foot of the perpendicular through the
+    viewpoint (gnomonic coordinates), so a rectangle [x0, x1] x [y0, y1] on a plane at distance
+    d is the same as [x0/d, x1/d] x [y0/d, y1/d] here. Exact, by inclusion-exclusion over the
+    corner formula F(x, y) = atan(x y / sqrt(1 + x^2 + y^2)), which is odd in x and in y.
+
+    Parameters
+    ----------
+    x0, x1, y0, y1 : array_like [-] (lengths divided by the distance), x0 <= x1, y0 <= y1
+
+    Returns
+    -------
+    ndarray [sr]
+
+    References
+    ----------
+    Mathar, R. J. (2015), "Solid angle of a rectangular plate", Max-Planck Institute for
+    Astronomy, Heidelberg, eq. (23) (the corner case) and its sums over sub-rectangles.
+    """
+    def f(x, y):
+        return np.arctan(x * y / np.sqrt(1.0 + x * x + y * y))
+
+    return f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0)
+
+
 def unit(vectors: np.ndarray) -> np.ndarray:
     """Rows of ``vectors`` (n, 3) scaled to unit length."""
     return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)

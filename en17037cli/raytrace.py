@@ -1,10 +1,12 @@
 """Ray engine: Embree scenes per face group, queried in float32 chunks on all cores.
 
 Embree has no ray masks and no tnear in embreex, so transparency is handled with one scene per
-group of faces (``window``, ``interior``, ``outdoor`` = landscape + ground, ``landscape``,
-``sun`` = every opaque face that blocks the sun). Each is built on first use and shared by every
-check and room of the run. Geometry arrives already shifted to a local origin in float64
-(:mod:`en17037cli.scene`), so the float32 cast loses nothing that matters near the rooms.
+group of faces: ``opaque`` (every face that is not glazing), ``interior``, ``landscape``,
+``sun`` (every opaque face that blocks the sun; the ``opaque`` scene itself when no face is
+left out) and one small scene per room holding that room's windows. Each is built on first use
+and shared by every check and room of the run. Geometry arrives already shifted to a local origin
+in float64 (:mod:`en17037cli.scene`), so the float32 cast loses nothing that matters near the
+rooms.
 """
 from __future__ import annotations
 
@@ -20,32 +22,46 @@ from en17037cli.scene import GROUND, INTERIOR, LANDSCAPE, WINDOW
 GLAZING_OFFSET_M = 1e-3
 
 #: Rays per embreex call; large enough to amortise the call, small enough to share two cores.
-CHUNK = 1 << 16
+CHUNK = 1 << 15
+
+#: Classes of a direction seen from inside a room.
+BLOCKED, SKY, LANDSCAPE_HIT, GROUND_HIT = 0, 1, 2, 3
 
 GROUPS = {
-    "window": lambda s: s.layer == WINDOW,
+    "opaque": lambda s: s.layer != WINDOW,
     "interior": lambda s: s.layer == INTERIOR,
-    "outdoor": lambda s: (s.layer == LANDSCAPE) | (s.layer == GROUND),
     "landscape": lambda s: s.layer == LANDSCAPE,
     "sun": lambda s: (s.layer != WINDOW) & s.obstructs_sun,
 }
 
 
+def room_window_group(room) -> str:
+    """Name of the group holding the window faces of ``room`` (see :meth:`RayEngine.define`)."""
+    return f"windows of room {room.index}"
+
+
 class RayEngine:
-    """First-hit and occlusion queries against groups of a :class:`~en17037cli.scene.Scene`.
+    """First-hit and occlusion queries against groups of faces of a :class:`~en17037cli.scene.Scene`.
 
     Parameters
     ----------
     scene : Scene
     threads : int, optional
-        Worker threads (embreex releases the GIL); default: the machine's cores.
+        Worker threads (embreex's loop runs without the GIL); default: the machine's cores.
     """
 
     def __init__(self, scene, threads: int | None = None):
         self.scene = scene
         self.threads = max(1, threads or os.cpu_count() or 1)
+        self._faces = {name: None for name in GROUPS}
+        for room in scene.rooms:
+            self._faces[room_window_group(room)] = np.concatenate([w.face_ids for w in room.windows])
         self._groups: dict = {}
+        #: class of a ray whose first opaque face beyond the glazing is each face (see outside_class)
+        self.face_class = np.select([scene.layer == LANDSCAPE, scene.layer == GROUND], [LANDSCAPE_HIT, GROUND_HIT],
+                                    BLOCKED).astype(np.int8)
         self.rays_traced = 0
+        self.build_s = 0.0
         self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
 
     def close(self):
@@ -53,20 +69,34 @@ class RayEngine:
             self._pool.shutdown()
             self._pool = None
 
+    def faces(self, name: str) -> np.ndarray:
+        """Face ids of group ``name`` (sorted)."""
+        f = self._faces[name]
+        if f is None:
+            f = self._faces[name] = np.flatnonzero(GROUPS[name](self.scene))
+        return f
+
     def _group(self, name: str):
-        """(embree scene or None, face ids of the group) built on first use."""
+        """(embree scene or None, face ids of the group), built on first use; identical groups share one scene."""
         if name not in self._groups:
+            import time
+
             from embreex import rtcore_scene as rtcs
             from embreex.mesh_construction import TriangleMesh
 
-            faces = np.flatnonzero(GROUPS[name](self.scene))
-            if len(faces) == 0:
+            t = time.perf_counter()
+            faces = self.faces(name)
+            twin = next((g for g in self._groups.values() if len(g[1]) == len(faces) and np.array_equal(g[1], faces)), None)
+            if twin is not None:
+                self._groups[name] = twin
+            elif len(faces) == 0:
                 self._groups[name] = (None, faces)
             else:
                 es = rtcs.EmbreeScene()
-                tris = self.scene.vertices[self.scene.triangles[faces]].astype(np.float32)
-                TriangleMesh(es, tris)
+                TriangleMesh(es, self.scene.vertices[self.scene.triangles[faces]].astype(np.float32))
+                es.run(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))  # commit (builds the BVH) now
                 self._groups[name] = (es, faces)
+            self.build_s += time.perf_counter() - t
         return self._groups[name]
 
     def _map(self, fn, n: int):
@@ -101,9 +131,10 @@ class RayEngine:
 
         def run(a, b):
             r = es.run(o32[a:b], d32[a:b], output=1)
-            hit = r["primID"] >= 0
-            face[a:b] = np.where(hit, faces[np.maximum(r["primID"], 0)], -1)
-            dist[a:b] = np.where(hit, r["tfar"].astype(np.float64), np.inf)
+            prim = r["primID"]
+            hit = prim >= 0
+            face[a:b] = np.where(hit, faces[np.maximum(prim, 0)], -1)
+            dist[a:b] = np.where(hit, r["tfar"], np.inf)
 
         self._map(run, n)
         self.rays_traced += n
@@ -138,49 +169,62 @@ class RayEngine:
         return np.where(face >= 0, self.scene.layer[np.maximum(face, 0)], -1)
 
 
-#: Classes of a direction seen from inside a room.
-BLOCKED, SKY, LANDSCAPE_HIT, GROUND_HIT = 0, 1, 2, 3
+def outside_class(engine: RayEngine, face: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """Class of rays whose first opaque face beyond the glazing is ``face`` (-1: none).
+
+    ``interior`` beyond the glazing (outer reveals, frames, the building's own walls) blocks;
+    ``landscape`` and ``ground`` are seen; a ray that meets nothing is sky when it points upwards
+    and ground when it leaves the model below the horizon.
+
+    Returns
+    -------
+    (n,) int8, BLOCKED / SKY / LANDSCAPE_HIT / GROUND_HIT
+    """
+    cls = engine.face_class[np.maximum(face, 0)]
+    none = face < 0
+    cls[none] = np.where(directions[none, 2] < 0, GROUND_HIT, SKY)
+    return cls
 
 
-def trace_through_windows(engine: RayEngine, origins, directions):
+def trace_through_windows(engine: RayEngine, window_group: str, origins, directions):
     """Where each ray from inside a room goes: through which window and onto which layer.
 
-    A ray *leaves through a window* when it reaches a window face before any opaque face and
-    the first opaque face beyond the glazing is not ``interior`` (outer reveals, frames and the
-    room's own walls block). Beyond the glazing it hits ``landscape``, ``ground``, or nothing:
-    sky when it points upwards, ground when it leaves the model below the horizon.
+    A ray *leaves through a window* when it reaches a face of ``window_group`` (the room's
+    windows) before any opaque face, and the first opaque face beyond the glazing is not
+    ``interior`` (see :func:`outside_class`). Two queries per ray: the room's windows (a scene
+    of a few triangles) and the opaque faces.
 
     Parameters
     ----------
+    window_group : str, e.g. :func:`room_window_group` (room)
     origins : (n, 3) float [m]; directions : (n, 3) unit
 
     Returns
     -------
     cls : (n,) int8, BLOCKED / SKY / LANDSCAPE_HIT / GROUND_HIT
     window_face : (n,) int, the window face crossed (-1 if blocked)
-    outside_distance : (n,) float [m] along the ray to the outdoor hit (+inf if none)
+    outside_face : (n,) int, the first opaque face beyond the glazing (-1 if none or blocked)
+    outside_distance : (n,) float [m] along the ray to that face (+inf if none)
     glass_distance : (n,) float [m] along the ray to the window face (+inf if blocked)
     """
     n = len(origins)
     cls = np.zeros(n, dtype=np.int8)
     wface = np.full(n, -1, dtype=np.int64)
+    oface = np.full(n, -1, dtype=np.int64)
     odist = np.full(n, np.inf)
     gdist = np.full(n, np.inf)
-    f_g, t_g = engine.first_hit("window", origins, directions)
+    f_g, t_g = engine.first_hit(window_group, origins, directions)
     cand = np.flatnonzero(f_g >= 0)
     if len(cand) == 0:
-        return cls, wface, odist, gdist
-    o, d = origins[cand], directions[cand]
-    _, t_i = engine.first_hit("interior", o, d)
-    before = t_g[cand] < t_i
-    cand, o, d, t_i = cand[before], o[before], d[before], t_i[before]
-    f_o, t_o = engine.first_hit("outdoor", o, d)
-    ok = (t_g[cand] < t_o) & (t_i >= t_o)  # no outdoor face before the glass; no interior face before the outdoor hit
-    cand, d, f_o, t_o = cand[ok], d[ok], f_o[ok], t_o[ok]
-    layer = engine.layer_of(f_o)
-    cls[cand] = np.where(layer == LANDSCAPE, LANDSCAPE_HIT,
-                         np.where(layer == GROUND, GROUND_HIT, np.where(d[:, 2] < 0, GROUND_HIT, SKY)))
-    wface[cand] = f_g[cand]
-    odist[cand] = t_o
-    gdist[cand] = t_g[cand]
-    return cls, wface, odist, gdist
+        return cls, wface, oface, odist, gdist
+    f_o, t_o = engine.first_hit("opaque", origins[cand], directions[cand])
+    ok = t_g[cand] < t_o
+    cand, f_o, t_o = cand[ok], f_o[ok], t_o[ok]
+    c = outside_class(engine, f_o, directions[cand])
+    cls[cand] = c
+    keep = cand[c != BLOCKED]
+    wface[keep] = f_g[keep]
+    oface[keep] = f_o[c != BLOCKED]
+    odist[keep] = t_o[c != BLOCKED]
+    gdist[keep] = t_g[keep]
+    return cls, wface, oface, odist, gdist

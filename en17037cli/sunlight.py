@@ -22,22 +22,13 @@ import numpy as np
 
 from en17037cli import standard
 from en17037cli.errors import InputError
-from en17037cli.raytrace import GLAZING_OFFSET_M
+from en17037cli.geometry import window_axes
+from en17037cli.raytrace import GLAZING_OFFSET_M, room_window_group
 from en17037cli.sun.position import direction_vectors, solar_position
 
 #: Start of the reveal search, outside the glazing plane [m], and the lateral step beyond a jamb [m].
 REVEAL_PROBE_OUTSIDE_M = 0.01
 REVEAL_PROBE_BEYOND_JAMB_M = 0.02
-
-
-def window_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Horizontal width axis and in-plane 'up' axis of a window with outward unit ``normal``."""
-    a = np.cross([0.0, 0.0, 1.0], normal)
-    if np.linalg.norm(a) < 1e-9:  # horizontal window (skylight)
-        a = np.array([1.0, 0.0, 0.0])
-    a /= np.linalg.norm(a)
-    up = np.cross(normal, a)
-    return a, up / np.linalg.norm(up)
 
 
 def reveal_depth(engine, start: np.ndarray, normal: np.ndarray, axis: np.ndarray, half_width: float, max_depth: float) -> float:
@@ -131,10 +122,10 @@ def day_bounds(year: int, start_mmdd: str, end_mmdd: str, timezone: str):
 class SunVisibility:
     """Visibility of the sun from the P points of one room, vectorised over times."""
 
-    def __init__(self, engine, points: np.ndarray, normals: np.ndarray, room_window_face: np.ndarray, location: dict,
+    def __init__(self, engine, points: np.ndarray, normals: np.ndarray, window_group: str, location: dict,
                  cfg: dict, true_north_deg: float):
         self.engine, self.points, self.normals = engine, points, normals
-        self.is_room_window = room_window_face
+        self.window_group = window_group
         self.loc, self.cfg, self.north = location, cfg, true_north_deg
         self.calls = 0
 
@@ -154,9 +145,8 @@ class SunVisibility:
             if len(cand) == 0:
                 continue
             o = np.broadcast_to(p, (len(cand), 3))
-            face, _ = self.engine.first_hit("window", o, d[cand])
-            through = (face >= 0) & self.is_room_window[np.maximum(face, 0)]
-            cand = cand[through]
+            face, _ = self.engine.first_hit(self.window_group, o, d[cand])
+            cand = cand[face >= 0]
             if len(cand) == 0:
                 continue
             blocked = self.engine.occluded("sun", np.broadcast_to(p, (len(cand), 3)), d[cand])
@@ -231,11 +221,8 @@ def assess_room(engine, scene, room, cfg: dict, location: dict, thresholds: dict
         depths = [r[1] for r in res]
         for r in res:
             notes.extend(r[2])
-    is_room_window = np.zeros(len(scene.triangles), dtype=bool)
-    for w in room.windows:
-        is_room_window[w.face_ids] = True
     normals = np.array([w.normal for w in room.windows])
-    vis = SunVisibility(engine, pts, normals, is_room_window, location, cfg, scene.true_north_deg)
+    vis = SunVisibility(engine, pts, normals, room_window_group(room), location, cfg, scene.true_north_deg)
     dates, t0, t1 = day_bounds(cfg["year"], cfg["period"]["start"], cfg["period"]["end"], location["timezone"])
     step = cfg["timestep_min"] * 60.0
     intervals, err_s = visible_intervals(vis, t0, t1, step, cfg["tolerance_s"])

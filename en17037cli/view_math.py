@@ -1,12 +1,14 @@
-"""Maths behind the view engine: viewpoint grids, solid-angle cells, weighted statistics.
+"""Maths behind the view engine: viewpoint grids, window frames, clipped solid angles, weighted statistics.
 
 No ray is traced here; :mod:`en17037cli.view` calls these functions.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from en17037cli.geometry import triangle_solid_angle, unit
+from en17037cli.geometry import triangle_solid_angle, window_axes
 
 
 def grid_points(utilised, spacing_m: float) -> np.ndarray:
@@ -47,96 +49,6 @@ def grid_points(utilised, spacing_m: float) -> np.ndarray:
         pts = np.array([[p.x, p.y]])
     order = np.lexsort((np.round(pts[:, 1], 9), np.round(pts[:, 0], 9)))
     return pts[order]
-
-
-def angular_size(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """Largest angle between the directions to two vertices of each cell [rad].
-
-    Parameters
-    ----------
-    points : (n, 3) float [m]; cells : (n, 3, 3) float [m]
-    """
-    d = unit(cells - points[:, None, :])
-    c = np.minimum(np.minimum(np.einsum("ij,ij->i", d[:, 0], d[:, 1]), np.einsum("ij,ij->i", d[:, 1], d[:, 2])),
-                   np.einsum("ij,ij->i", d[:, 2], d[:, 0]))
-    return np.arccos(np.clip(c, -1.0, 1.0))
-
-
-def split4(cells: np.ndarray) -> np.ndarray:
-    """Split triangles into four by their edge midpoints.
-
-    Parameters
-    ----------
-    cells : (n, 3, 3) float [m]
-
-    Returns
-    -------
-    (4 n, 3, 3) float; the children of cell i are rows 4 i .. 4 i + 3.
-    """
-    a, b, c = cells[:, 0], cells[:, 1], cells[:, 2]
-    ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
-    kids = np.stack([np.stack([a, ab, ca], 1), np.stack([ab, b, bc], 1),
-                     np.stack([ca, bc, c], 1), np.stack([ab, bc, ca], 1)], axis=1)
-    return kids.reshape(-1, 3, 3)
-
-
-def base_cells(points: np.ndarray, point_index: np.ndarray, triangles: np.ndarray, resolution_rad: float):
-    """Subdivide window triangles, per viewpoint, until each cell subtends at most ``resolution_rad``.
-
-    The number of cells, hence of rays, scales with the windows' solid angle seen from each
-    point, not with the whole sphere.
-
-    Parameters
-    ----------
-    points : (p, 3) float [m]
-    point_index : (n,) int, viewpoint of each starting triangle
-    triangles : (n, 3, 3) float [m]
-    resolution_rad : float [rad]
-
-    Returns
-    -------
-    point_index : (m,) int; cells : (m, 3, 3) float [m]
-    """
-    done_p, done_c = [], []
-    pi, cells = point_index, triangles
-    for _ in range(40):  # levels, not cells: each halves the cell size
-        if len(cells) == 0:
-            break
-        big = angular_size(points[pi], cells) > resolution_rad
-        done_p.append(pi[~big])
-        done_c.append(cells[~big])
-        pi, cells = np.repeat(pi[big], 4), split4(cells[big])
-    done_p.append(pi)
-    done_c.append(cells)
-    return np.concatenate(done_p), np.concatenate(done_c)
-
-
-def cell_weights(points: np.ndarray, point_index: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """Exact solid angle of each cell seen from its viewpoint [sr] (Van Oosterom and Strackee 1983).
-
-    The cells of a planar window tile it, so their weights add up to its exact solid angle.
-    """
-    return triangle_solid_angle(points[point_index], cells)
-
-
-#: Vertex samples are pulled this fraction of the way towards the centroid, so that a sample
-#: never lies exactly on a window's own edge (where glazing and wall meet) and the cells along
-#: the window outline are not refined for nothing.
-VERTEX_INSET = 0.01
-
-
-def cell_samples(points: np.ndarray, point_index: np.ndarray, cells: np.ndarray):
-    """Ray origins and unit directions through each cell's centroid and (nearly) its three vertices.
-
-    Returns
-    -------
-    origins : (4 m, 3); directions : (4 m, 3); row 4 i is the centroid of cell i.
-    """
-    centroid = cells.mean(axis=1)[:, None, :]
-    corners = cells + VERTEX_INSET * (centroid - cells)
-    targets = np.concatenate([centroid, corners], axis=1)  # (m, 4, 3)
-    origins = np.repeat(points[point_index], 4, axis=0)
-    return origins, unit(targets.reshape(-1, 3) - origins)
 
 
 def weighted_statistic(values: np.ndarray, weights: np.ndarray, statistic: str):
@@ -188,3 +100,172 @@ def weighted_statistic(values: np.ndarray, weights: np.ndarray, statistic: str):
     lo = np.where(np.isfinite(lo), lo, 0.0)
     hi = np.where(np.isfinite(hi), hi, 0.0)
     return value, np.where(empty, np.nan, np.maximum(lo, hi))
+
+
+@dataclass
+class WindowFrame:
+    """A planar window in its own 2D frame, for sampling it from viewpoints.
+
+    ``u`` and ``v`` span the glazing plane: ``u`` runs along a side of the window's minimum-area
+    bounding rectangle (the side nearest the horizontal), so the frame moves with the model and a
+    rectangular window is ``[xmin, xmax] x [ymin, ymax]`` exactly. ``n`` is the outward normal.
+
+    tri2 : (k, 3, 2) float [m], the window's triangles in (u, v) coordinates about ``origin``
+    """
+
+    index: int
+    name: str
+    origin: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    n: np.ndarray
+    tri2: np.ndarray
+    xmin: float
+    xmax: float
+    ymin: float
+    ymax: float
+    is_rectangle: bool
+    face_ids: np.ndarray
+    #: (e, 3) float [m]: vertices (x, y, s) of the window's frame, s along the outward normal
+    frame_xys: np.ndarray = None
+
+
+def window_frame(window, index: int) -> WindowFrame:
+    """The :class:`WindowFrame` of a :class:`~en17037cli.scene.Window` (triangles projected on its mean plane)."""
+    import shapely
+
+    n = np.asarray(window.normal, float)
+    origin = window.centroid
+    a, up = window_axes(n)
+    rel = window.triangles - origin
+    flat = np.stack([rel @ a, rel @ up], axis=-1)
+    poly = shapely.union_all([shapely.Polygon(t) for t in flat if _area2(t) > 0])
+    rect = np.asarray(shapely.minimum_rotated_rectangle(poly).exterior.coords)[:4]
+    sides = [rect[1] - rect[0], rect[2] - rect[1]]
+    phis = [np.arctan2(s[1], s[0]) for s in sides]
+    phis = [(ph + np.pi / 2) % np.pi - np.pi / 2 for ph in phis]  # a side direction, folded to [-90, 90) deg
+    phi = min(phis, key=abs)
+    if abs(phi) < 1e-12:
+        phi = 0.0
+    u = np.cos(phi) * a + np.sin(phi) * up
+    v = -np.sin(phi) * a + np.cos(phi) * up
+    tri2 = np.stack([rel @ u, rel @ v], axis=-1)
+    xmin, xmax = float(tri2[..., 0].min()), float(tri2[..., 0].max())
+    ymin, ymax = float(tri2[..., 1].min()), float(tri2[..., 1].max())
+    box = (xmax - xmin) * (ymax - ymin)
+    return WindowFrame(index, window.name, origin, u, v, n, tri2, xmin, xmax, ymin, ymax,
+                       bool(abs(poly.area - box) <= 1e-9 * box), np.asarray(window.face_ids))
+
+
+def frame_vertices(frame: WindowFrame, opaque_triangles: np.ndarray, depth_m: float) -> np.ndarray:
+    """Vertices of the opaque faces that frame a window: mullions, transoms, frames, reveals.
+
+    A face is part of the frame when all its vertices lie within ``depth_m`` of the glazing
+    plane and its extent over the plane overlaps the window's. The view engine draws a grid
+    line through the image of each of these vertices.
+
+    Parameters
+    ----------
+    frame : WindowFrame
+    opaque_triangles : (m, 3, 3) float [m], local frame
+    depth_m : float [m]
+
+    Returns
+    -------
+    (e, 3) float [m], unique (x, y, s) in the window's (u, v, n) frame
+    """
+    rel = opaque_triangles - frame.origin
+    s = rel @ frame.n
+    near = np.all(np.abs(s) <= depth_m, axis=1)
+    rel, s = rel[near], s[near]
+    x, y = rel @ frame.u, rel @ frame.v
+    over = (x.min(axis=1) < frame.xmax) & (x.max(axis=1) > frame.xmin) & (y.min(axis=1) < frame.ymax) & (y.max(axis=1) > frame.ymin)
+    xys = np.stack([x[over], y[over], s[over]], axis=-1).reshape(-1, 3)
+    return np.unique(np.round(xys, 9), axis=0)
+
+
+def _area2(t: np.ndarray) -> float:
+    """Twice the unsigned area of one 2D triangle (3, 2)."""
+    return abs((t[1, 0] - t[0, 0]) * (t[2, 1] - t[0, 1]) - (t[1, 1] - t[0, 1]) * (t[2, 0] - t[0, 0]))
+
+
+def points_in_triangles(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Whether each point lies in (or on the edge of) any of the triangles.
+
+    Parameters
+    ----------
+    xy : (m, 2) float; tri : (k, 3, 2) float, same units
+
+    Returns
+    -------
+    (m,) bool
+    """
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+
+    def side(p, q, r):  # (m, k) sign of the cross product (q - p) x (r - p)
+        return (q[None, :, 0] - p[None, :, 0]) * (r[:, None, 1] - p[None, :, 1]) - (q[None, :, 1] - p[None, :, 1]) * (r[:, None, 0] - p[None, :, 0])
+
+    s1, s2, s3 = side(a, b, xy), side(b, c, xy), side(c, a, xy)
+    scale = np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))[None, :] * 1e-12
+    inside = ((s1 >= -scale) & (s2 >= -scale) & (s3 >= -scale)) | ((s1 <= scale) & (s2 <= scale) & (s3 <= scale))
+    return np.any(inside, axis=1)
+
+
+def _clip_halfplane(poly: np.ndarray, count: np.ndarray, axis: int, bound: np.ndarray, sign: float):
+    """Sutherland-Hodgman step: keep the part of each convex polygon where sign * (x[axis] - bound) >= 0."""
+    m, k, _ = poly.shape
+    out = np.zeros((m, k + 1, 2))
+    n_out = np.zeros(m, dtype=int)
+    rows = np.arange(m)
+    s = sign * (poly[..., axis] - bound[:, None])
+    for i in range(k):  # over the (at most 7) vertex slots of a polygon, not over data
+        j = np.where(i + 1 < count, i + 1, 0)
+        active = i < count
+        pa, pb = poly[:, i], poly[rows, j]
+        sa, sb = s[:, i], s[rows, j]
+        keep = active & (sa >= 0)
+        out[rows[keep], n_out[keep]] = pa[keep]
+        n_out += keep
+        cross = active & ((sa >= 0) != (sb >= 0))
+        t = sa / np.where(cross, sa - sb, 1.0)
+        pc = pa + t[:, None] * (pb - pa)
+        out[rows[cross], n_out[cross]] = pc[cross]
+        n_out += cross
+    return out, n_out
+
+
+def clipped_solid_angle(tri: np.ndarray, rect: np.ndarray):
+    """Solid angle and centroid of triangles clipped to rectangles, in gnomonic coordinates.
+
+    Parameters
+    ----------
+    tri : (m, 3, 2) float, triangles on the plane at unit distance (see
+        :func:`~en17037cli.geometry.offset_rectangle_solid_angle`)
+    rect : (m, 4) float, (x0, x1, y0, y1)
+
+    Returns
+    -------
+    omega : (m,) float [sr], exact (sum of Van Oosterom-Strackee fan triangles of the convex clip)
+    centroid : (m, 2) float, area centroid of the clipped polygon (NaN where it is empty)
+    """
+    poly, count = tri.astype(float), np.full(len(tri), 3)
+    for axis, col, sign in ((0, 0, 1.0), (0, 1, -1.0), (1, 2, 1.0), (1, 3, -1.0)):
+        poly, count = _clip_halfplane(poly, count, axis, rect[:, col], sign)
+    m, k, _ = poly.shape
+    omega = np.zeros(m)
+    area = np.zeros(m)
+    moment = np.zeros((m, 2))
+    p3 = np.concatenate([poly, np.ones((m, k, 1))], axis=2)
+    zero = np.zeros((m, 3))
+    for i in range(1, k - 1):  # fan triangles (0, i, i + 1) over the vertex slots
+        ok = i + 1 < count
+        t3 = np.stack([p3[:, 0], p3[:, i], p3[:, i + 1]], axis=1)
+        omega += np.where(ok, triangle_solid_angle(zero, t3), 0.0)
+        e1, e2 = poly[:, i] - poly[:, 0], poly[:, i + 1] - poly[:, 0]
+        a2 = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+        a2 = np.where(ok, a2, 0.0)
+        area += a2
+        moment += a2[:, None] * (poly[:, 0] + poly[:, i] + poly[:, i + 1]) / 3.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centroid = moment / area[:, None]
+    return omega, np.where(area[:, None] > 0, centroid, np.nan)

@@ -85,9 +85,9 @@ def test_no_leak_through_shared_edges_of_a_split_window(build):
     origin = np.column_stack([rng.uniform(-1.8, 1.8, n), rng.uniform(0.5, 5.5, n), rng.uniform(0.3, 2.7, n)])
     d = target - origin
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    from en17037cli.raytrace import BLOCKED, trace_through_windows
+    from en17037cli.raytrace import BLOCKED, room_window_group, trace_through_windows
 
-    cls, _, _, _ = trace_through_windows(open_.engine, open_.scene.to_local(origin), d)
+    cls = trace_through_windows(open_.engine, room_window_group(open_.room), open_.scene.to_local(origin), d)[0]
     assert np.count_nonzero(cls == BLOCKED) == 0
     # The panel overlaps the opening by 5 cm only: a grazing ray can pass beside it, which is
     # geometry, not a leak. Keep the rays that cross the panel's plane (y = 0.05) on the panel,
@@ -102,7 +102,7 @@ def test_no_leak_through_shared_edges_of_a_split_window(build):
     hit = origin2 + t[:, None] * d_all
     on_panel = (np.abs(hit[:, 0]) < 1.05 - 1e-6) & (hit[:, 2] > 0.75 + 1e-6) & (hit[:, 2] < 2.25 - 1e-6)
     assert on_panel.sum() > 1_000_000
-    cls, _, _, _ = trace_through_windows(shut.engine, shut.scene.to_local(origin2[on_panel]), d_all[on_panel])
+    cls = trace_through_windows(shut.engine, room_window_group(shut.room), shut.scene.to_local(origin2[on_panel]), d_all[on_panel])[0]
     assert np.count_nonzero(cls != BLOCKED) == 0
     # the split window is still one window
     assert len(open_.scene.windows) == 1 and len(open_.scene.windows[0].face_ids) == 100
