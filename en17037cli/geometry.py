@@ -19,40 +19,6 @@ def check_shape(name: str, array, shape: tuple) -> np.ndarray:
     return a
 
 
-def newell_normal(polygon: np.ndarray) -> np.ndarray:
-    """Unnormalised normal of a (possibly non-planar) polygon by Newell's method.
-
-    Parameters
-    ----------
-    polygon : (k, 3) float [m]
-
-    Returns
-    -------
-    (3,) float [m^2]; its length is twice the area of the polygon projected on its best-fit plane.
-
-    References
-    ----------
-    Sutherland, Sproull, Schumacker (1974), "A characterization of ten hidden-surface
-    algorithms", ACM Computing Surveys 6(1), p. 15 (Newell's method).
-    """
-    p = np.asarray(polygon, dtype=float)
-    q = np.roll(p, -1, axis=0)
-    return np.array([
-        np.sum((p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2])),
-        np.sum((p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0])),
-        np.sum((p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])),
-    ])
-
-
-def plane_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two orthonormal vectors spanning the plane normal to ``normal`` (3,)."""
-    n = normal / np.linalg.norm(normal)
-    helper = np.array([0.0, 0.0, 1.0]) if abs(n[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    u = np.cross(helper, n)
-    u /= np.linalg.norm(u)
-    return u, np.cross(n, u)
-
-
 def triangulate_polygon(polygon: np.ndarray) -> np.ndarray:
     """Triangulate one simple polygon, concave or slightly non-planar, in its best-fit plane.
 
@@ -68,19 +34,51 @@ def triangulate_polygon(polygon: np.ndarray) -> np.ndarray:
     (k - 2, 3) int
         Indices into ``polygon``; fewer rows if the polygon is degenerate or self-intersecting.
     """
+    polygon = np.asarray(polygon, dtype=float)
+    if len(polygon) == 3:
+        return np.array([[0, 1, 2]])
+    return triangulate_polygons(polygon[None])[0]
+
+
+def triangulate_polygons(polygons: np.ndarray) -> list:
+    """Triangulate many simple polygons with the same vertex count; see :func:`triangulate_polygon`.
+
+    The best-fit planes (Newell normals) and 2D projections are computed for all polygons at
+    once; only the ear clipping itself runs per polygon (mapbox-earcut's API takes one polygon).
+
+    Parameters
+    ----------
+    polygons : (n, k, 3) float [m], k >= 4
+
+    Returns
+    -------
+    list of n (t, 3) int arrays, indices into each polygon (t < k - 2 if it is degenerate)
+
+    References
+    ----------
+    Sutherland, Sproull, Schumacker (1974), "A characterization of ten hidden-surface
+    algorithms", ACM Computing Surveys 6(1), p. 15 (Newell's method for the plane normal).
+    """
     import mapbox_earcut
 
-    k = len(polygon)
-    if k == 3:
-        return np.array([[0, 1, 2]])
-    n = newell_normal(polygon)
-    if not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
-        return np.zeros((0, 3), dtype=int)
-    u, v = plane_basis(n)
-    centred = polygon - polygon.mean(axis=0)
-    flat = np.column_stack([centred @ u, centred @ v])
-    idx = mapbox_earcut.triangulate_float64(flat, np.array([k], dtype=np.uint32))
-    return idx.reshape(-1, 3).astype(int)
+    p = np.asarray(polygons, dtype=float)
+    q = np.roll(p, -1, axis=1)
+    n = np.stack([np.sum((p[..., 1] - q[..., 1]) * (p[..., 2] + q[..., 2]), axis=1),
+                  np.sum((p[..., 2] - q[..., 2]) * (p[..., 0] + q[..., 0]), axis=1),
+                  np.sum((p[..., 0] - q[..., 0]) * (p[..., 1] + q[..., 1]), axis=1)], axis=1)
+    norm = np.linalg.norm(n, axis=1)
+    good = np.isfinite(norm) & (norm > 0)
+    n = np.where(good[:, None], n / np.where(good, norm, 1.0)[:, None], [0.0, 0.0, 1.0])
+    helper = np.where((np.abs(n[:, 2]) < 0.9)[:, None], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+    u = np.cross(helper, n)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(n, u)
+    centred = p - p.mean(axis=1, keepdims=True)
+    flat = np.stack([np.einsum("nkj,nj->nk", centred, u), np.einsum("nkj,nj->nk", centred, v)], axis=-1)
+    ring = np.array([p.shape[1]], dtype=np.uint32)
+    empty = np.zeros((0, 3), dtype=int)
+    return [mapbox_earcut.triangulate_float64(f, ring).reshape(-1, 3).astype(int) if g else empty
+            for f, g in zip(flat, good)]  # one ear clipping per polygon
 
 
 def triangle_normals(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.geometry import triangulate_polygon
+from en17037cli.geometry import triangulate_polygons
 
 
 @dataclass
@@ -112,14 +112,15 @@ def _triangulate_faces(verts: np.ndarray, faces: list, face_names: list):
         out_tris.append(np.array([f for f, s in zip(faces, tri_mask) if s], dtype=int).reshape(-1, 3))
         out_names.append(names[tri_mask])
     n_failed = 0
-    for i in np.flatnonzero(~tri_mask):  # one ear clipping per n-gon
-        idx = np.asarray(faces[i], dtype=int)
-        local = triangulate_polygon(verts[idx])
-        if len(local) < len(idx) - 2:
-            n_failed += 1
-        if len(local):
-            out_tris.append(idx[local])
-            out_names.append(np.full(len(local), names[i]))
+    for k in np.unique(sizes[~tri_mask]):  # polygons grouped by vertex count
+        rows = np.flatnonzero(sizes == k)
+        idx = np.array([faces[i] for i in rows], dtype=int)
+        for r, ix, local in zip(rows, idx, triangulate_polygons(verts[idx])):
+            if len(local) < k - 2:
+                n_failed += 1
+            if len(local):
+                out_tris.append(ix[local])
+                out_names.append(np.full(len(local), names[r]))
     if not out_tris:
         return np.zeros((0, 3), dtype=int), np.zeros(0, dtype=int), n_failed
     return np.concatenate(out_tris), np.concatenate(out_names), n_failed
