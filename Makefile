@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test install samples clean
+.PHONY: demo test bench install samples clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -24,6 +24,9 @@ demo: $(STAMP) samples
 
 test: $(STAMP)
 	$(PY) -m pytest
+
+bench: $(STAMP) samples
+	$(PY) -m en17037cli.bench --out bench.json
 
 clean:
 	rm -rf $(VENV) out .pytest_cache .hypothesis

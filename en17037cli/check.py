@@ -8,7 +8,7 @@ from __future__ import annotations
 import time
 
 from en17037cli import standard, sunlight, view
-from en17037cli.raytrace import RayEngine
+from en17037cli.raytrace import RayEngine, room_window_group
 from en17037cli.scene import build_scene
 
 
@@ -43,6 +43,10 @@ def run_check(project, only: str | None = None, progress=None) -> dict:
     run_sun = "sunlight" in cfg and only in (None, "sunlight")
     rooms = []
     try:
+        # the acceleration structures the checks will query, built once and shared by every room
+        engine.prepare([room_window_group(r) for r in scene.rooms] + (["opaque"] if run_view else [])
+                       + (["interior", "sun"] if run_sun else []))
+        timer.stage("build")
         view_results = {}
         if run_view:
             planned = {r.name: view.viewpoints(scene, r, cfg["view"], project.view_points.get(r.name)) for r in scene.rooms}

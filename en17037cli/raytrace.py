@@ -69,6 +69,11 @@ class RayEngine:
             self._pool.shutdown()
             self._pool = None
 
+    def prepare(self, names) -> None:
+        """Build the acceleration structures of ``names`` now (otherwise on first use)."""
+        for name in names:
+            self._group(name)
+
     def faces(self, name: str) -> np.ndarray:
         """Face ids of group ``name`` (sorted)."""
         f = self._faces[name]

@@ -1,0 +1,230 @@
+"""Benchmark: ``python -m en17037cli.bench`` (or ``make bench``) prints tables and writes them as JSON.
+
+Speed is measured here, never in a timed test. Sections:
+
+1. **Throughput**: the engine's first-hit queries against raw embreex on the same rays (the
+   view rays of the seed office), both threads, in the same process; the ratio is the figure
+   that matters on a noisy machine.
+2. **check**: wall time and peak memory (``ru_maxrss`` of a child process) of ``en17037 check``
+   on each sample project, split by stage (load, build, view, sunlight, report).
+3. **Large context**: the same for the synthetic room inside a generated city of about 1 million
+   triangles read from a binary PLY file.
+4. **Scaling**: view time against triangles, viewpoints and angular resolution.
+
+Usage: ``python -m en17037cli.bench [--out bench.json] [--quick]``
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+SAMPLES = {"seed-office": ROOT / "sample_projects/seed-office/project.yaml",
+           "synthetic-street": ROOT / "sample_projects/synthetic-street/project.yaml"}
+#: Repetitions of each throughput measurement; the best is kept (least disturbed by other load).
+REPEAT = 3
+
+
+def _best(fn, repeat: int = REPEAT) -> float:
+    """Shortest wall time of ``repeat`` calls of ``fn`` [s]."""
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return min(times)
+
+
+def _load(project_path: Path, overrides=()):
+    from en17037cli.project import load_project
+    from en17037cli.raytrace import RayEngine
+    from en17037cli.scene import build_scene
+
+    project = load_project(project_path, list(overrides))
+    scene = build_scene(project)
+    return project, scene, RayEngine(scene)
+
+
+def throughput(max_rays: int = 3_000_000) -> dict:
+    """Engine against raw embreex on the seed office's view rays (opaque scene, first hits)."""
+    from en17037cli import view
+    from en17037cli.raytrace import CHUNK
+
+    project, scene, engine = _load(SAMPLES["seed-office"])
+    captured = []
+    original = engine.first_hit
+
+    def spy(group, origins, directions):
+        if group == "opaque":
+            captured.append((np.array(origins, dtype=np.float32), np.array(directions, dtype=np.float32)))
+        return original(group, origins, directions)
+
+    engine.first_hit = spy
+    room = scene.rooms[0]
+    view.assess_room(engine, scene, room, project.config["view"], project.config["thresholds"])
+    engine.first_hit = original
+    o = np.concatenate([c[0] for c in captured])[:max_rays]
+    d = np.concatenate([c[1] for c in captured])[:max_rays]
+    n = len(o)
+    es, _ = engine._group("opaque")
+    bounds = [(a, min(a + CHUNK, n)) for a in range(0, n, CHUNK)]
+
+    def raw(threads):
+        def run(ab):
+            a, b = ab
+            es.run(o[a:b], d[a:b], output=1)
+
+        if threads == 1:
+            for ab in bounds:
+                run(ab)
+        else:
+            with ThreadPoolExecutor(threads) as pool:
+                list(pool.map(run, bounds))
+
+    threads = engine.threads
+    t_raw1 = _best(lambda: raw(1))
+    t_raw = _best(lambda: raw(threads))
+    t_engine = _best(lambda: engine.first_hit("opaque", o, d))
+    t_occ = _best(lambda: engine.occluded("opaque", o, d))
+    engine.close()
+    return {
+        "rays": n, "threads": threads, "scene_triangles": int(len(engine.faces("opaque"))),
+        "raw_embreex_1_thread_mrays_s": n / t_raw1 / 1e6,
+        "raw_embreex_mrays_s": n / t_raw / 1e6,
+        "engine_first_hit_mrays_s": n / t_engine / 1e6,
+        "engine_occluded_mrays_s": n / t_occ / 1e6,
+        "engine_share_of_raw": t_raw / t_engine,
+    }
+
+
+#: Runs a command and prints its wall time, exit code and peak memory as JSON. A fresh, small
+#: interpreter starts it, because a child's ru_maxrss counts the memory of the process it was
+#: forked from (here, a benchmark holding millions of rays).
+_LAUNCHER = (
+    "import json, os, sys, time\n"
+    "t = time.perf_counter()\n"
+    "pid = os.posix_spawn(sys.argv[1], sys.argv[1:], os.environ,"
+    " file_actions=[(os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0)])\n"
+    "_, status, usage = os.wait4(pid, 0)\n"
+    "print(json.dumps({'wall_s': time.perf_counter() - t, 'code': os.waitstatus_to_exitcode(status),"
+    " 'maxrss_kb': usage.ru_maxrss}))\n"
+)
+
+
+def run_check(project_path: Path, overrides=()) -> dict:
+    """``en17037 check`` in a child process: wall time [s], peak memory [MB], stage times [s], rays."""
+    with tempfile.TemporaryDirectory() as tmp:
+        cmd = [sys.executable, "-m", "en17037cli", "check", str(project_path), "--quiet", "--out", tmp]
+        for o in overrides:
+            cmd += ["--set", o]
+        done = subprocess.run([sys.executable, "-c", _LAUNCHER, *cmd], capture_output=True, text=True, check=True)
+        m = json.loads(done.stdout)
+        if m["code"] not in (0, 1):
+            raise RuntimeError(f"check of {project_path} exited with {m['code']}: {done.stderr.strip()}")
+        report = json.loads((Path(tmp) / "report.json").read_text())
+    return {"wall_s": m["wall_s"], "peak_mb": m["maxrss_kb"] / 1024.0, "exit_code": m["code"],
+            "stages_s": report["timings_s"], "rays": report.get("rays_traced")}
+
+
+def city_project(directory: Path, n_triangles: int) -> Path:
+    """The synthetic box room inside a generated city of ``n_triangles`` (binary PLY, layer landscape)."""
+    import yaml
+
+    from en17037cli.samples import BoxRoom, box_room_project, city_context, write_ply
+
+    path = box_room_project(directory, BoxRoom(), name=f"Synthetic street in a {n_triangles:,}-triangle city",
+                            sunlight={"date": "worst"}, view={"grid_spacing_m": 0.5})
+    v, f = city_context(n_triangles)
+    write_ply(directory / "city.ply", v, f)
+    doc = yaml.safe_load(path.read_text())
+    doc["model"]["files"].append({"path": "city.ply", "layer": "landscape", "units": "m", "up_axis": "z"})
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
+def scaling(quick: bool) -> dict:
+    """View time against triangles (generated cities), viewpoints (grid spacing) and angular resolution (seed)."""
+    out = {"triangles": [], "viewpoints": [], "resolution": []}
+    sizes = (10_000, 100_000) if quick else (10_000, 100_000, 1_000_000)
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in sizes:
+            r = run_check(city_project(Path(tmp) / f"c{n}", n), ["sunlight.period.end=02-01"])
+            out["triangles"].append({"context_triangles": n, "build_s": r["stages_s"].get("build"),
+                                     "view_s": r["stages_s"].get("view"), "wall_s": r["wall_s"], "peak_mb": r["peak_mb"]})
+    for spacing in ((1.0, 0.5) if quick else (1.0, 0.5, 0.25)):
+        r = run_check(SAMPLES["seed-office"], [f"view.grid_spacing_m={spacing}", "sunlight.period.end=02-01"])
+        out["viewpoints"].append({"grid_spacing_m": spacing, "view_s": r["stages_s"].get("view"), "rays": r["rays"]})
+    for res in ((2.0, 1.0) if quick else (2.0, 1.0, 0.5)):
+        r = run_check(SAMPLES["seed-office"], [f"view.angular_resolution_deg={res}", "sunlight.period.end=02-01"])
+        out["resolution"].append({"angular_resolution_deg": res, "view_s": r["stages_s"].get("view"), "rays": r["rays"]})
+    return out
+
+
+#: Short column headings of the printed tables (the JSON keeps the long names).
+LABELS = {"raw_embreex_1_thread_mrays_s": "raw 1 thread", "raw_embreex_mrays_s": "raw", "engine_first_hit_mrays_s": "engine",
+          "engine_occluded_mrays_s": "engine occluded", "engine_share_of_raw": "engine / raw", "peak_mb": "peak MB",
+          "context_triangles": "triangles", "grid_spacing_m": "grid m", "angular_resolution_deg": "resolution deg"}
+
+
+def _table(title: str, rows: list, columns: list) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    for c in columns:
+        t.add_column(LABELS.get(c, c), justify="right")
+    for r in rows:
+        t.add_row(*[("-" if r.get(c) is None else (f"{r[c]:.3g}" if isinstance(r[c], float) else str(r[c]))) for c in columns])
+    Console(width=max(100, Console().width)).print(t)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m en17037cli.bench", description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default="bench.json", help="JSON file to write (default bench.json)")
+    ap.add_argument("--quick", action="store_true", help="skip the 1-million-triangle runs")
+    args = ap.parse_args(argv)
+    import embreex
+
+    result = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "numpy": np.__version__,
+                          "embreex": getattr(embreex, "__version__", "?"), "platform": platform.platform()}}
+    result["throughput"] = throughput()
+    tp = result["throughput"]
+    _table("Ray throughput on the seed office's view rays [M rays/s]", [tp],
+           ["rays", "threads", "raw_embreex_1_thread_mrays_s", "raw_embreex_mrays_s", "engine_first_hit_mrays_s",
+            "engine_occluded_mrays_s", "engine_share_of_raw"])
+    checks = []
+    for name, path in SAMPLES.items():
+        r = run_check(path)
+        checks.append({"project": name, "wall_s": r["wall_s"], "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
+    if not args.quick:
+        with tempfile.TemporaryDirectory() as tmp:
+            r = run_check(city_project(Path(tmp), 1_000_000))
+            checks.append({"project": "synthetic-street + 1M-triangle city (PLY)", "wall_s": r["wall_s"],
+                           "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
+    result["check"] = checks
+    _table("en17037 check (child process; wall includes start-up) [s, MB]", checks,
+           ["project", "wall_s", "peak_mb", "load", "build", "view", "sunlight", "report", "rays"])
+    result["scaling"] = scaling(args.quick)
+    sc = result["scaling"]
+    _table("View time against context triangles (synthetic room, 0.5 m grid)", sc["triangles"],
+           ["context_triangles", "build_s", "view_s", "wall_s", "peak_mb"])
+    _table("View time against viewpoints (seed office)", sc["viewpoints"], ["grid_spacing_m", "view_s", "rays"])
+    _table("View time against angular resolution (seed office, 0.5 m grid)", sc["resolution"],
+           ["angular_resolution_deg", "view_s", "rays"])
+    Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
