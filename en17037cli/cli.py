@@ -147,6 +147,67 @@ def validate(project_file: Path, overrides):
         click.echo(f"note: {note}")
 
 
+@cli.group()
+def study():
+    """Studies of the numerical settings (not checks)."""
+
+
+@study.command()
+@click.argument("project_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), required=True,
+              help="Folder for convergence.csv and convergence.png.")
+@click.option("--ladder", "ladders", multiple=True, metavar="KNOB",
+              help="Run only this ladder, e.g. view.angular_resolution_deg (repeatable) [default: all].")
+@click.option("--target", "targets", multiple=True, metavar="KIND=VALUE",
+              help="Error target: angle_deg, solid_angle_sr, distance_m, hours_s, share_pp (repeatable).")
+@click.option("--points", "max_points", type=click.IntRange(1), default=None,
+              help="Use at most this many viewpoints per room and eye height (spread evenly).")
+@click.option("--set", "overrides", multiple=True, metavar="KEY.PATH=VALUE", help="Override a project key.")
+def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points, overrides):
+    """Error against run time for ladders of resolutions; cheapest setting within the targets."""
+    from rich.console import Console
+    from rich.table import Table
+
+    from en17037cli import study as st
+    from en17037cli.errors import InputError
+
+    def run():
+        chosen = st.LADDERS
+        if ladders:
+            known = {lad.knob: lad for lad in st.LADDERS}
+            bad = [k for k in ladders if k not in known]
+            if bad:
+                raise InputError(f"--ladder {bad[0]}: unknown; use one of {', '.join(known)}")
+            chosen = tuple(known[k] for k in ladders)
+        tg = {}
+        for item in targets:
+            kind, _, value = item.partition("=")
+            if kind not in st.TARGETS:
+                raise InputError(f"--target {item}: unknown kind '{kind}'; use one of {', '.join(st.TARGETS)}")
+            try:
+                tg[kind] = float(value)
+            except ValueError:
+                raise InputError(f"--target {item}: '{value}' is not a number") from None
+        return st.convergence(project_file, out_dir, chosen, tg, overrides, max_points,
+                              log=lambda m: click.echo(m, err=True))
+
+    res = _guard(run)
+    console = Console(width=max(Console().width, 120))
+    table = Table(title=f"Convergence of {project_file}")
+    for col in ("knob", "value", "quantity", "max error", "estimate", "target", "ok", "time s", "rays"):
+        table.add_column(col, justify="right")
+    for r in res["rows"]:
+        table.add_row(r["ladder"], st._fmt(r["value"]), r["quantity"], f"{r['error']:.3g}", f"{r['estimate']:.3g}",
+                      f"{r['target']:g}", "yes" if r["within_target"] else "no", f"{r['wall_s']:.3f}", str(r["rays"]))
+    console.print(table)
+    for (knob, q), p in res["orders"].items():
+        console.print(f"observed order of {q} in {knob}: " + ("at round-off or too few rungs" if p != p else f"{p:.2f}"))
+    for knob, v in res["cheapest"].items():
+        console.print(f"cheapest {knob} within the targets: " + ("none of the rungs" if v is None else st._fmt(v)))
+    console.print(f"wrote {out_dir / 'convergence.csv'}" + (f" and {res['png']}" if res["png"] else
+                                                             " (install matplotlib for convergence.png)"))
+
+
 @cli.command()
 @click.argument("which", type=click.Choice(["project", "report"]))
 def schema(which):

@@ -9,6 +9,7 @@ import copy
 import csv
 import datetime as dt
 import json
+import re
 import zoneinfo
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -104,6 +105,27 @@ def _fill_defaults(node, schema: dict, root: dict):
     return node
 
 
+class YamlLoader(yaml.SafeLoader):
+    """PyYAML's safe loader with YAML 1.2 floats: ``1e-6`` is a number, not the string '1e-6'."""
+
+
+YamlLoader.yaml_implicit_resolvers = {k: [r for r in v if r[0] != "tag:yaml.org,2002:float"]
+                                      for k, v in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+YamlLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
+                |[-+]?(?:[0-9][0-9_]*)(?:[eE][-+]?[0-9]+)
+                |\.[0-9_]+(?:[eE][-+]?[0-9]+)?
+                |[-+]?\.(?:inf|Inf|INF)
+                |\.(?:nan|NaN|NAN))$""", re.X),
+    list("-+0123456789."))
+
+
+def parse_yaml(text: str):
+    """Parse YAML text with :class:`YamlLoader`."""
+    return yaml.load(text, Loader=YamlLoader)  # noqa: S506 - a SafeLoader subclass
+
+
 def apply_overrides(document: dict, overrides: list[str], source: str = "--set") -> dict:
     """Apply ``key.path=value`` overrides (value parsed as YAML), creating objects as needed.
 
@@ -114,7 +136,7 @@ def apply_overrides(document: dict, overrides: list[str], source: str = "--set")
             raise InputError(f"{source} {item!r}: expected key.path=value, e.g. sunlight.timestep_min=1")
         key, raw = item.split("=", 1)
         try:
-            value = yaml.safe_load(raw)
+            value = parse_yaml(raw)
         except yaml.YAMLError:
             value = raw
         parts = [p for p in key.strip().split(".") if p]
@@ -179,7 +201,7 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
     except OSError as exc:
         raise InputError(f"{path}: cannot read project file: {exc.strerror}") from None
     try:
-        document = yaml.safe_load(text)
+        document = parse_yaml(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f":{mark.line + 1}" if mark else ""

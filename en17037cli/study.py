@@ -1,0 +1,267 @@
+"""Convergence study: error against run time for ladders of the engines' resolution knobs.
+
+``en17037 study convergence project.yaml --out DIR`` runs the project's engines once per rung of
+each ladder (one knob varied, the others at the project's values), times each run, and measures
+each reported quantity's error against a reference run at a finer setting than any rung. It
+writes ``DIR/convergence.csv`` and ``DIR/convergence.png`` (error / target against wall time,
+log-log, one line per quantity), prints a table, the observed order of convergence of each
+quantity (the slope of log error against log knob, fitted over the rungs whose error is above
+round-off), and the cheapest rung whose errors are all within the targets.
+
+The engines are run in-process on one scene and one ray engine (acceleration structures built
+once), so the times are those of the view or sunlight stage alone.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+#: Default error targets per kind of quantity (overridable with ``--target kind=value``).
+TARGETS = {"angle_deg": 0.01, "solid_angle_sr": 1e-3, "distance_m": 1e-3, "hours_s": 2.0, "share_pp": 5.0}
+
+#: Errors below this fraction of the target are round-off: left out of the order fit (so are
+#: errors below twice the reference run's own error estimate: they are not measurable).
+ROUND_OFF = 1e-6
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A reported quantity: how to read its values and error estimates out of a run."""
+
+    name: str
+    kind: str  # key of TARGETS
+    check: str  # "view" | "sunlight"
+
+
+QUANTITIES = {
+    "sky": Quantity("sky", "solid_angle_sr", "view"),
+    "landscape": Quantity("landscape", "solid_angle_sr", "view"),
+    "ground": Quantity("ground", "solid_angle_sr", "view"),
+    "sight_angle": Quantity("sight_angle", "angle_deg", "view"),
+    "distance": Quantity("distance", "distance_m", "view"),
+    "share_medium": Quantity("share_medium", "share_pp", "view"),
+    "hours": Quantity("hours", "hours_s", "sunlight"),
+}
+
+
+@dataclass(frozen=True)
+class Ladder:
+    """One knob, its rungs from coarse to fine, the reference run's overrides, the quantities it moves."""
+
+    knob: str
+    values: tuple
+    reference: dict
+    quantities: tuple
+    per_point: bool = True  # the rungs share viewpoints (False for the grid spacing)
+    extra: dict = field(default_factory=dict)  # overrides applied to every rung
+
+
+LADDERS = (
+    Ladder("view.angular_resolution_deg", (4.0, 2.0, 1.0, 0.5),
+           {"view.angular_resolution_deg": 0.25, "view.refine_levels": 4, "view.solid_angle_rel_tolerance": 0,
+            "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground")),
+    Ladder("view.refine_levels", (0, 1, 2, 3),
+           {"view.angular_resolution_deg": 0.25, "view.refine_levels": 4, "view.solid_angle_rel_tolerance": 0,
+            "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground")),
+    Ladder("view.horizontal_resolution_deg", (2.0, 1.0, 0.5, 0.2, 0.1), {"view.horizontal_resolution_deg": 0.02},
+           ("sight_angle", "distance")),
+    Ladder("view.angle_tolerance_deg", (0.1, 0.01, 1e-3, 1e-4), {"view.angle_tolerance_deg": 1e-6}, ("sight_angle",)),
+    Ladder("view.grid_spacing_m", (2.0, 1.0, 0.5), {"view.grid_spacing_m": 0.25}, ("share_medium",), per_point=False),
+    Ladder("sunlight.timestep_min", (60.0, 30.0, 15.0, 5.0), {"sunlight.timestep_min": 1.0, "sunlight.tolerance_s": 0.01},
+           ("hours",), extra={"sunlight.tolerance_s": 0.01}),
+    Ladder("sunlight.tolerance_s", (60.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("hours",)),
+)
+
+
+def _fmt(v) -> str:
+    return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+class Runner:
+    """Runs the view or sunlight engine of one project at given overrides, on one shared scene."""
+
+    def __init__(self, project_path: Path, overrides=(), max_points: int | None = None):
+        from en17037cli.project import load_project
+        from en17037cli.raytrace import RayEngine
+        from en17037cli.scene import build_scene
+
+        self.path, self.base = Path(project_path), list(overrides)
+        self.project = load_project(self.path, self.base)
+        self.scene = build_scene(self.project)
+        self.engine = RayEngine(self.scene)
+        self.max_points = max_points
+
+    def close(self):
+        self.engine.close()
+
+    def run(self, check: str, overrides: dict, per_point: bool) -> tuple[dict, float, int]:
+        """(values per quantity, wall time [s], rays) of one run."""
+        from en17037cli import sunlight, view
+        from en17037cli.project import load_project
+
+        project = load_project(self.path, self.base + [f"{k}={v}" for k, v in overrides.items()])
+        cfg = project.config
+        self.engine.rays_traced = 0
+        if check == "view":
+            planned = {}
+            for r in self.scene.rooms:
+                groups, notes = view.viewpoints(self.scene, r, cfg["view"], project.view_points.get(r.name))
+                if per_point and self.max_points:
+                    groups = [(h, p[np.unique(np.linspace(0, len(p) - 1, min(self.max_points, len(p))).astype(int))])
+                              for h, p in groups]
+                planned[r.name] = (groups, notes)
+            t = time.perf_counter()
+            res = [view.assess_room(self.engine, self.scene, r, cfg["view"], cfg["thresholds"], planned=planned[r.name])
+                   for r in self.scene.rooms]  # one pass per room
+            wall = time.perf_counter() - t
+            return _view_values(res), wall, self.engine.rays_traced
+        t = time.perf_counter()
+        res = [sunlight.assess_room(self.engine, self.scene, r, cfg["sunlight"], cfg["location"], cfg["thresholds"],
+                                    r.config.get("sun_points")) for r in self.scene.rooms]
+        wall = time.perf_counter() - t
+        return {"hours": (np.concatenate([x["hours"] for x in res]) * 3600.0,
+                          np.concatenate([x["error_h"] for x in res]) * 3600.0)}, wall, self.engine.rays_traced
+
+
+def _view_values(results: list) -> dict:
+    """(values, error estimates) per view quantity, concatenated over rooms and eye heights."""
+    vals: dict = {k: ([], []) for k in ("sky", "landscape", "ground", "sight_angle", "distance", "share_medium")}
+    for res in results:
+        for e in res["eye_heights"]:
+            v = e["values"]
+            if not v:
+                continue
+            for k in ("sky", "landscape", "ground"):
+                vals[k][0].append(v[k])
+                vals[k][1].append(v["err_" + k])
+            vals["sight_angle"][0].append(v["h_angle_deg"])
+            vals["sight_angle"][1].append(v["h_angle_err_deg"])
+            vals["distance"][0].append(v["distance"])
+            vals["distance"][1].append(v["distance_gap"])
+            vals["share_medium"][0].append([100.0 * e["share_by_level"]["view"]["medium"]])
+            vals["share_medium"][1].append([np.nan])
+    return {k: (np.concatenate(a) if a else np.zeros(0), np.concatenate(b) if b else np.zeros(0)) for k, (a, b) in vals.items()}
+
+
+def max_error(values: np.ndarray, reference: np.ndarray) -> float:
+    """Largest absolute difference; equal infinities (unobstructed distances) differ by 0."""
+    v, r = np.asarray(values, float), np.asarray(reference, float)
+    if v.shape != r.shape or v.size == 0:
+        return math.nan
+    same = (v == r) | (np.isnan(v) & np.isnan(r))
+    with np.errstate(invalid="ignore"):
+        d = np.where(same, 0.0, np.abs(v - r))
+    return float(np.nanmax(np.where(np.isnan(d), np.inf, d)))
+
+
+def observed_order(knob_values, errors, floor: float) -> float:
+    """Least-squares slope of log(error) against log(knob) over the errors above ``floor``.
+
+    An error that falls as h^p gives p (Roache 1998, 'Verification and Validation in Computational
+    Science and Engineering', ch. 5). NaN with fewer than two usable rungs.
+    """
+    h, e = np.asarray(knob_values, float), np.asarray(errors, float)
+    ok = np.isfinite(e) & (e > floor) & (h > 0)
+    if ok.sum() < 2 or np.ptp(np.log(h[ok])) == 0:
+        return math.nan
+    return float(np.polyfit(np.log(h[ok]), np.log(e[ok]), 1)[0])
+
+
+def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dict | None = None, overrides=(),
+                max_points: int | None = None, log=print) -> dict:
+    """Run the study; write ``convergence.csv`` (and ``convergence.png`` when matplotlib is present).
+
+    Returns
+    -------
+    dict with ``rows`` (list of dicts, one per rung and quantity), ``orders`` and ``cheapest``
+    (per ladder) and ``png`` (path or None).
+    """
+    targets = {**TARGETS, **(targets or {})}
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    runner = Runner(project_path, overrides, max_points)
+    cfg = runner.project.config
+    rows, orders, cheapest = [], {}, {}
+    try:
+        for lad in ladders:
+            check = QUANTITIES[lad.quantities[0]].check
+            if check not in cfg:
+                continue
+            ref, _, _ = runner.run(check, {**lad.extra, **lad.reference}, lad.per_point)
+            rung_rows = []
+            for value in lad.values:  # one run per rung
+                vals, wall, rays = runner.run(check, {**lad.extra, lad.knob: value}, lad.per_point)
+                for q in lad.quantities:
+                    kind = QUANTITIES[q].kind
+                    err = max_error(vals[q][0], ref[q][0])
+                    est = float(np.nanmax(vals[q][1])) if vals[q][1].size and np.any(np.isfinite(vals[q][1])) else math.nan
+                    rung_rows.append({"ladder": lad.knob, "value": value, "quantity": q, "kind": kind, "error": err,
+                                      "estimate": est, "target": targets[kind], "within_target": bool(err <= targets[kind]),
+                                      "wall_s": wall, "rays": rays})
+                log(f"  {lad.knob} = {_fmt(value)}: {wall:.3f} s")
+            rows += rung_rows
+            for q in lad.quantities:
+                qr = [r for r in rung_rows if r["quantity"] == q]
+                ref_est = ref[q][1][np.isfinite(ref[q][1])]
+                floor = max(ROUND_OFF * targets[QUANTITIES[q].kind], 2.0 * float(ref_est.max()) if ref_est.size else 0.0)
+                orders[(lad.knob, q)] = observed_order([r["value"] for r in qr], [r["error"] for r in qr], floor)
+            ok = {}
+            for r in rung_rows:
+                ok.setdefault(r["value"], []).append(r["within_target"])
+            good = [v for v in lad.values if all(ok[v])]
+            times = {r["value"]: r["wall_s"] for r in rung_rows}
+            cheapest[lad.knob] = min(good, key=lambda v: times[v]) if good else None
+    finally:
+        runner.close()
+    _write_csv(out_dir / "convergence.csv", rows)
+    png = _plot(out_dir / "convergence.png", rows)
+    return {"rows": rows, "orders": orders, "cheapest": cheapest, "png": png}
+
+
+def _write_csv(path: Path, rows: list) -> None:
+    cols = ["ladder", "value", "quantity", "kind", "error", "estimate", "target", "within_target", "wall_s", "rays"]
+    tmp = path.with_suffix(".csv.tmp")
+    with tmp.open("w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh, lineterminator="\n")
+        w.writerow(cols)
+        for r in rows:
+            w.writerow([_fmt(r[c]) if isinstance(r[c], float) else r[c] for c in cols])
+    tmp.replace(path)
+
+
+def _plot(path: Path, rows: list) -> Path | None:
+    """Error / target against wall time, log-log, one line per (ladder, quantity); None without matplotlib."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return None
+    fig, ax = plt.subplots(figsize=(9, 6))
+    lines = {}
+    for r in rows:
+        lines.setdefault((r["ladder"], r["quantity"]), []).append(r)
+    for (ladder, q), rs in lines.items():
+        t = np.array([r["wall_s"] for r in rs])
+        e = np.array([r["error"] / r["target"] for r in rs])
+        ok = np.isfinite(e) & (e > 0)
+        if ok.any():
+            ax.loglog(t[ok], e[ok], marker="o", label=f"{q} ({ladder.split('.', 1)[1]})")
+    ax.axhline(1.0, color="k", lw=0.8, ls="--")
+    ax.set_xlabel("wall time of the engine stage [s]")
+    ax.set_ylabel("max error / target")
+    ax.set_title("Convergence: error against run time (reference: finer setting than any rung)")
+    ax.legend(fontsize=7, ncol=2)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    tmp = path.with_name(path.stem + ".tmp.png")
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    tmp.replace(path)
+    return path
