@@ -300,6 +300,7 @@ def build_scene(project) -> Scene:
     origin = 0.5 * (wv.min(axis=0) + wv.max(axis=0))
     local = verts - origin
     windows = find_windows(local, tris, np.flatnonzero(win_mask), names, name_id)
+    check_glazing_over_opaque(local, tris, layer, windows, names, name_id, project.path.name)
     scene = Scene(origin=origin, vertices=local, triangles=tris, layer=layer, obstructs_sun=sun, names=names,
                   name_id=name_id, windows=windows, notes=notes, warnings=warnings, file_hashes=hashes,
                   true_north_deg=float(project.config["model"]["true_north_deg"]))
@@ -327,6 +328,56 @@ def build_scene(project) -> Scene:
         scene.rooms.append(Room(name=rc["name"], index=i, floor_z=floor_z, floor=poly, windows=oriented,
                                 config=rc, floor_source=source))
     return scene
+
+
+#: An opaque face this close to a window's plane lies in it [m] ...
+UNCUT_DISTANCE_M = 1e-3
+#: ... and covering more than this share of the window's area makes it a modelling error.
+UNCUT_SHARE = 0.01
+
+
+def object_label(names: list, name_id: int) -> str:
+    """'file: object' label of a face's name tuple (object, group, material, file stem)."""
+    obj, group, mtl, stem = (list(names[name_id]) + [""] * 4)[:4]
+    return f"{stem}: {obj or group or mtl or '(unnamed)'}" if stem else (obj or group or mtl or "(unnamed)")
+
+
+def check_glazing_over_opaque(vertices, triangles, layer, windows, names, name_id, where: str) -> None:
+    """Raise InputError where glazing lies over an opaque face that has no opening cut for it.
+
+    An opaque face within :data:`UNCUT_DISTANCE_M` of a window's plane, whose overlap with the
+    window covers more than :data:`UNCUT_SHARE` of the window's area, hides the glazing from every
+    ray (a silent zero view). Walls whose opening is cut around a glazing in the same plane only
+    touch its outline and pass. Vectorised over faces; one shapely overlap per window.
+    """
+    import shapely
+
+    from en17037cli.geometry import window_axes
+
+    opaque = np.flatnonzero(layer != WINDOW)
+    if len(opaque) == 0:
+        return
+    tv = vertices[triangles[opaque]]
+    for w in windows:  # one pass per window
+        c, n = w.centroid, w.normal
+        near = np.all(np.abs((tv - c) @ n) <= UNCUT_DISTANCE_M, axis=1)
+        if not near.any():
+            continue
+        a, up = window_axes(n)
+        rel_w = w.triangles - c
+        win = shapely.union_all(shapely.polygons(np.stack([rel_w @ a, rel_w @ up], axis=-1))).buffer(0)
+        rel = tv[near] - c
+        faces = shapely.polygons(np.stack([rel @ a, rel @ up], axis=-1))
+        overlap = shapely.area(shapely.intersection(shapely.make_valid(faces), win))
+        ids = name_id[opaque[near]]
+        per_object = np.bincount(ids, overlap, len(names))
+        worst = int(np.argmax(per_object))
+        if per_object[worst] > UNCUT_SHARE * w.area_m2:
+            win_label = object_label(names, int(name_id[w.face_ids[0]]))
+            raise InputError(
+                f"{where}: window '{w.name}' ({win_label}) lies on '{object_label(names, worst)}', an opaque face "
+                f"within {UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covering {100 * per_object[worst] / w.area_m2:.0f}% "
+                "of it: no ray could pass; cut the opening in that wall, or move the glazing off the wall plane")
 
 
 def layer_counts(scene: Scene) -> dict:

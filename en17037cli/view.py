@@ -608,9 +608,29 @@ def fan_intervals(rg: RoomGeometry, points: np.ndarray):
     run_end = np.maximum.accumulate(end)
     new = np.r_[True, key[1:] > run_end[:-1] + 1e-12]
     g0 = np.flatnonzero(new)
-    g_end = np.maximum.reduceat(end, g0) if len(g0) else np.zeros(0)
+    if len(g0) == 0:
+        return np.zeros(0, np.int64), np.zeros(0), np.zeros(0)
+    g_end = np.maximum.reduceat(end, g0)
     pt = pi[order][g0]
     return pt, key[g0] - pt * 8.0, g_end - key[g0]
+
+
+#: An eye this close to the height of a window's sill or head looks along that edge: its fan is
+#: taken this far inside the window instead [m], so the result is the limit from inside.
+EDGE_HEIGHT_M = 1e-6
+
+
+def fan_heights(rg: RoomGeometry, points: np.ndarray) -> np.ndarray:
+    """Points with the eye moved :data:`EDGE_HEIGHT_M` inside a window whose sill or head lies within that distance."""
+    out = points.copy()
+    for k in range(len(rg.frames)):  # one pass per window, vectorised over points
+        z = rg.triangles[rg.triangle_window == k][..., 2]
+        lo, hi = z.min(), z.max()
+        if hi - lo <= 2 * EDGE_HEIGHT_M:
+            continue
+        out[np.abs(out[:, 2] - lo) <= EDGE_HEIGHT_M, 2] = lo + EDGE_HEIGHT_M
+        out[np.abs(out[:, 2] - hi) <= EDGE_HEIGHT_M, 2] = hi - EDGE_HEIGHT_M
+    return out
 
 
 def horizontal(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict) -> dict:
@@ -619,7 +639,8 @@ def horizontal(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict) -> dict:
     Rays are traced only towards the windows: over each merged azimuth interval of
     :func:`fan_intervals`, at most ``horizontal_resolution_deg`` apart, the two end rays moved
     half of ``angle_tolerance_deg`` inwards; every change between "leaves" and "blocked" is then
-    located by bisection to ``angle_tolerance_deg``.
+    located by bisection to ``angle_tolerance_deg``. An eye at a window's sill or head height is
+    moved :data:`EDGE_HEIGHT_M` inside the window (:func:`fan_heights`).
 
     Returns a dict of (p,) arrays: ``angle_deg``, ``angle_err_deg``, ``transitions`` and, for the
     ``horizontal`` distance method, ``distance`` [m] and ``distance_gap`` [m].
@@ -627,6 +648,7 @@ def horizontal(engine, rg: RoomGeometry, points: np.ndarray, cfg: dict) -> dict:
     p = len(points)
     res = np.radians(cfg["horizontal_resolution_deg"])
     tol = np.radians(cfg["angle_tolerance_deg"])
+    points = fan_heights(rg, points)
     ipt, start, width = fan_intervals(rg, points)
     inset = np.minimum(0.5 * tol, 0.25 * width)
     n = np.maximum(np.ceil(width / res - 1e-9), 1).astype(np.int64)

@@ -1,0 +1,109 @@
+"""Reference cases for window shapes and window furniture, against independent exact answers.
+
+Box room (en17037cli.samples.BoxRoom): opening x in [-1, 1], z in [0.8, 2.2] in the plane y = 0,
+room at y > 0, a 10 m building across a 25 m street. Independent answers come from shapely
+polygon clipping in the window plane and the Van Oosterom-Strackee triangle formula, not from the
+view engine's gnomonic grid.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from en17037cli import view
+from en17037cli.geometry import triangle_solid_angle
+from en17037cli.samples import MULLION_GAP, BoxRoom, layer_solid_angles, sight_angle_deg
+
+POINTS = np.array([[0.3, 2.0, 1.2], [-1.2, 5.5, 1.7], [0.9, 0.8, 1.2], [0.0, 3.0, 1.7]])
+
+
+def run(b, pts):
+    rg = view.room_geometry(b.scene, b.room, b.view_cfg["frame_depth_m"])
+    return view.assess_points(b.engine, rg, b.scene.to_local(pts), b.view_cfg, b.thresholds)
+
+
+def polygon_solid_angle(p, poly) -> float:
+    """Solid angle [sr] of a polygon in the plane y = 0 (x, z coordinates) seen from p: fan of
+    exact triangle solid angles over a triangulation of the polygon."""
+    if poly.is_empty or poly.area == 0:
+        return 0.0
+    total = 0.0
+    for tri in shapely.delaunay_triangles(poly).geoms:
+        if not tri.within(poly.buffer(1e-9)):
+            continue
+        xz = np.asarray(tri.exterior.coords)[:3]
+        t3 = np.column_stack([xz[:, 0], np.zeros(3), xz[:, 1]])[None]
+        total += float(triangle_solid_angle(np.asarray(p, float)[None], t3)[0])
+    return total
+
+
+def bands(p, box: BoxRoom):
+    """Sky, landscape and ground bands of the window plane seen from p (zero-thickness wall)."""
+    x0, y0, z0 = p
+    D, H = box.street, box.building_height
+    z_top = z0 + (H - z0) * y0 / (y0 + D)
+    z_base = z0 - z0 * y0 / (y0 + D)
+    big = 100.0
+    return (shapely.box(-big, z_top, big, big), shapely.box(-big, z_base, big, z_top), shapely.box(-big, -big, big, z_base))
+
+
+@pytest.mark.parametrize("i", range(len(POINTS)))
+def test_triangular_window_layers_by_polygon_clipping(build, i):
+    """A window that is not a rectangle goes through the clipped-cell path; its weights must still
+    add up to its exact solid angle, and each layer must match the clipped polygon."""
+    box = BoxRoom(triangle_window=True)
+    b = build(box, sub=f"t{i}")
+    p = POINTS[i]
+    r = run(b, p[None])
+    tri = shapely.Polygon([(-1, 0.8), (1, 0.8), (-1, 2.2)])
+    assert abs(r["glazing"][0] - polygon_solid_angle(p, tri)) < 1e-9
+    for key, band in zip(("sky", "landscape", "ground"), bands(p, box)):
+        exact = polygon_solid_angle(p, tri.intersection(band))
+        err = abs(r[key][0] - exact)
+        assert err <= r["err_" + key][0] + 1e-9, (key, r[key][0], exact, r["err_" + key][0])
+        assert err <= 2e-3
+    # the horizontal fan meets the triangle's sloping edge: the chord at eye height
+    z = p[2]
+    x_edge = -1 + 2 * (2.2 - z) / 1.4  # the hypotenuse from (1, 0.8) to (-1, 2.2)
+    half, centre = (x_edge + 1) / 2, (x_edge - 1) / 2
+    expected = sight_angle_deg(p[0] - centre, p[1], half=half)
+    assert abs(r["h_angle_deg"][0] - expected) <= r["h_angle_err_deg"][0] + 1e-9
+
+
+def test_double_glazing_is_not_counted_twice(build):
+    """Two parallel panes 2 cm apart are two windows of the room: each direction counts once."""
+    single = build(BoxRoom(), sub="one")
+    double = build(BoxRoom(second_pane=0.02), sub="two")
+    assert len(double.room.windows) == 2
+    pts = POINTS[[0, 1, 3]]
+    r1, r2 = run(single, pts), run(double, pts)
+    for key in ("sky", "landscape", "ground"):
+        assert np.all(np.abs(r2[key] - r1[key]) <= r1["err_" + key] + r2["err_" + key] + 1e-9), key
+    assert np.all(np.abs(r2["h_angle_deg"] - r1["h_angle_deg"]) <= 0.01)
+
+
+def test_mullions_5_cm_wide_are_resolved_from_the_back_of_the_room(build):
+    """5 cm mullion plates (0.5 deg from 6 m) fall between 1 deg samples unless the grid is
+    aligned with them: they are part of the window's frame, so it is."""
+    box = BoxRoom(depth=8.0, mullions=(-0.35, 0.35))
+    b = build(box)
+    pts = np.array([[0.0, 7.5, 1.2], [0.6, 6.0, 1.7], [-0.8, 7.0, 1.2]])
+    r = run(b, pts)
+    for i, p in enumerate(pts):
+        x0, y0 = p[0], p[1]
+        s = y0 / (y0 - MULLION_GAP)  # a mullion edge at x seen on the glazing plane: x0 + (x - x0) s
+        opening = shapely.box(-1, 0.8, 1, 2.2)
+        shadows = [shapely.box(x0 + (xm - 0.025 - x0) * s, 0.0, x0 + (xm + 0.025 - x0) * s, 3.0) for xm in box.mullions]
+        visible = opening.difference(shapely.union_all(shadows))
+        no_mullion = layer_solid_angles(p, BoxRoom(depth=8.0))
+        for key, band, plain in zip(("sky", "landscape", "ground"), bands(p, box), no_mullion):
+            exact = polygon_solid_angle(p, visible.intersection(band))
+            assert exact < plain - 1e-4 or plain == 0  # the mullions matter
+            err = abs(r[key][i] - exact)
+            assert err <= r["err_" + key][i] + 1e-9, (i, key, r[key][i], exact)
+        # sight angle: the fan (0.1 deg) sees both 0.5 deg gaps, bisected to 1e-4 deg
+        full = sight_angle_deg(x0, y0)
+        lost = sum(np.degrees(np.arctan2(xm + 0.025 - x0, y0 - MULLION_GAP) - np.arctan2(xm - 0.025 - x0, y0 - MULLION_GAP))
+                   for xm in box.mullions)
+        assert abs(r["h_angle_deg"][i] - (full - lost)) <= r["h_angle_err_deg"][i] + 1e-9

@@ -1,0 +1,254 @@
+"""Stiff and extreme cases: awkward models, places and knobs give a clear result or a clear error.
+
+Box room (en17037cli.samples.BoxRoom): opening x in [-1, 1], z in [0.8, 2.2] in the plane y = 0,
+facing south (-y), room at y > 0, a 10 m building across a 25 m street.
+"""
+from __future__ import annotations
+
+import datetime as dt
+
+import numpy as np
+import pytest
+import yaml
+from click.testing import CliRunner
+
+from en17037cli import sunlight, view
+from en17037cli.cli import cli
+from en17037cli.errors import InputError
+from en17037cli.geometry import triangle_solid_angle
+from en17037cli.project import load_project
+from en17037cli.samples import BoxRoom, box_room_project, layer_solid_angles, sight_angle_deg
+from en17037cli.scene import build_scene
+from en17037cli.sun import position as sp
+
+ONE_DAY = {"date": "02-01", "period": {"start": "02-01", "end": "02-01"}}
+
+
+def run_points(b, pts):
+    rg = view.room_geometry(b.scene, b.room, b.view_cfg["frame_depth_m"])
+    return view.assess_points(b.engine, rg, b.scene.to_local(np.asarray(pts, float)), b.view_cfg, b.thresholds)
+
+
+def exact_glazing(b, pts):
+    tris = np.concatenate([w.triangles for w in b.room.windows])
+    local = b.scene.to_local(np.asarray(pts, float))
+    return sum(triangle_solid_angle(local, np.repeat(t[None], len(local), 0)) for t in tris)
+
+
+def assert_layers(r, pts, box, i_max=None):
+    for i, p in enumerate(pts[:i_max]):
+        for key, exact in zip(("sky", "landscape", "ground"), layer_solid_angles(p, box)):
+            err = abs(r[key][i] - exact)
+            assert err <= r["err_" + key][i] + 1e-9, (i, key, r[key][i], exact, r["err_" + key][i])
+
+
+# --- viewpoints on awkward lines and planes -------------------------------------------------
+
+def test_viewpoint_in_the_window_plane_is_moved_inside_and_sees_the_half_space(build):
+    b = build(BoxRoom())
+    res = view.assess_room(b.engine, b.scene, b.room, b.view_cfg, b.thresholds,
+                           explicit=[[0.0, 0.0, 1.5], [1.5, 0.0, 1.5]])
+    assert any("lay on a glazing plane and were moved 1 mm" in n for n in res["notes"])
+    v = res["eye_heights"][0]["values"]
+    pts = res["eye_heights"][0]["points_local"] + b.scene.origin
+    assert np.allclose(pts[:, 1], 0.001)
+    # on the glass: almost the whole half space, 1 mm from a 2 x 1.4 m window
+    assert v["h_angle_deg"][0] > 179.8 and v["h_angle_err_deg"][0] < 0.01
+    assert abs(v["glazing"][0] - exact_glazing(b, pts[:1])[0]) < 1e-9
+    total = v["sky"][0] + v["landscape"][0] + v["ground"][0]
+    assert abs(total - v["glazing"][0]) < 1e-9  # nothing blocks it
+    # in the wall plane beside the window: the window is seen edge-on; the grazing sight angle is
+    # the angle between the window's two ends from 1 mm in front of the plane
+    expected = sight_angle_deg(1.5, 0.001)
+    assert abs(v["h_angle_deg"][1] - expected) <= v["h_angle_err_deg"][1] + 1e-9
+    assert abs(v["glazing"][1] - exact_glazing(b, pts[1:])[0]) < 1e-9
+
+
+@pytest.mark.parametrize("p", [[1.0, 2.0, 1.2], [-1.0, 4.0, 1.7], [0.5, 3.0, 2.2], [0.0, 1.0, 0.8]])
+def test_viewpoints_on_the_window_edge_lines(build, p):
+    """Points on the lines of the jambs, the head and the sill: rays graze the window's edges."""
+    box = BoxRoom()
+    b = build(box)
+    r = run_points(b, [p])
+    assert abs(r["h_angle_deg"][0] - sight_angle_deg(p[0], p[1])) <= r["h_angle_err_deg"][0] + 1e-9
+    assert abs(r["glazing"][0] - exact_glazing(b, [p])[0]) < 1e-9
+    assert_layers(r, [p], box)
+
+
+def test_touching_windows_and_many_triangles_give_the_one_window_answer(build):
+    pts = np.array([[0.3, 2.0, 1.2], [-1.2, 4.5, 1.7]])
+    one = build(BoxRoom(), sub="one")
+    split = build(BoxRoom(window_split=40), sub="split")  # 40 glazing strips sharing edges
+    assert len(split.room.windows) == 1
+    r1, r2 = run_points(one, pts), run_points(split, pts)
+    for k in ("sky", "landscape", "ground", "h_angle_deg", "distance"):
+        assert np.allclose(r1[k], r2[k], atol=1e-9), k
+
+
+# --- modelling errors -----------------------------------------------------------------------
+
+def test_glazing_over_an_uncut_wall_is_a_modelling_error_naming_both(tmp_path):
+    path = box_room_project(tmp_path / "p", BoxRoom(uncut_wall=True))
+    with pytest.raises(InputError) as e:
+        build_scene(load_project(path))
+    msg = str(e.value)
+    assert "window 'glazing'" in msg and "'model: room'" in msg and "100%" in msg and "cut the opening" in msg
+    r = CliRunner().invoke(cli, ["validate", str(path)])
+    assert r.exit_code == 2 and r.output.count("\n") == 1
+    # walls cut around the glazing in the same plane are the normal case
+    build_scene(load_project(box_room_project(tmp_path / "q", BoxRoom())))
+
+
+def test_nan_degenerate_and_duplicate_faces_are_dropped_and_counted(build, tmp_path):
+    b0 = build(BoxRoom(), sub="clean")
+    path = box_room_project(tmp_path / "dirty", BoxRoom())
+    obj = path.parent / "model.obj"
+    text = obj.read_text()
+    n = sum(1 for line in text.splitlines() if line.startswith("v "))
+    extra = ["o room", "v nan 0 0", "v 1 1 1", "v 2 2 2", "v 3 3 3",  # a NaN vertex, a zero-area (collinear) face
+             f"f {n + 1} {n + 2} {n + 3}", f"f {n + 2} {n + 3} {n + 4}"]
+    glazing = [line for line in text.splitlines() if line.startswith("f ")][-1]
+    obj.write_text(text + "\n".join(extra) + "\n")
+    s = build_scene(load_project(path))
+    assert any("degenerate, NaN or infinite faces dropped" in w for w in s.warnings)
+    assert len(s.triangles) == len(b0.scene.triangles)
+    assert glazing  # the model still has its faces
+
+
+def test_a_layer_missing_entirely_leaves_sky_and_ground_by_direction(build, tmp_path):
+    """No ground and no building faces: above the horizon is sky, below it ground."""
+    path = box_room_project(tmp_path / "p", BoxRoom(building_height=0))
+    doc = yaml.safe_load(path.read_text())
+    for rule in doc["model"]["files"][0]["layers"]:
+        if rule["match"] == "ground":
+            rule["layer"] = "ignore"
+    path.write_text(yaml.safe_dump(doc))
+    from tests.conftest import Built
+
+    b = Built(path)
+    p = np.array([[0.3, 2.0, 1.2]])
+    r = run_points(b, p)
+    b.engine.close()
+    from en17037cli.samples import rect_solid_angle_y0
+
+    sky = rect_solid_angle_y0(-1, 1, 1.2, 2.2, p[0])
+    ground = rect_solid_angle_y0(-1, 1, 0.8, 1.2, p[0])
+    assert abs(r["sky"][0] - sky) <= r["err_sky"][0] + 1e-9
+    assert abs(r["ground"][0] - ground) <= r["err_ground"][0] + 1e-9
+    assert r["landscape"][0] == 0 and np.isinf(r["distance"][0])
+
+
+# --- extreme sizes --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("box, pts", [
+    (BoxRoom(wall_thickness=1.0), [[0.3, 3.0, 1.2], [-1.5, 2.0, 1.7]]),  # 1 m reveals
+    (BoxRoom(window_x=(-0.005, 0.005), window_z=(1.195, 1.205)), [[0.0, 1.0, 1.2], [0.5, 3.0, 1.2]]),  # 1 cm window
+    # 50 m glass facade; the building and ground long enough to fill its view (the hand values assume it)
+    (BoxRoom(width=52.0, window_x=(-25.0, 25.0), building_length=8000.0, ground_size=8000.0),
+     [[0.0, 2.0, 1.2], [20.0, 1.0, 1.7]]),
+    (BoxRoom(depth=100.0), [[0.0, 99.0, 1.2], [1.5, 60.0, 1.7]]),  # 100 m deep room
+], ids=["wall-1m", "window-1cm", "facade-50m", "room-100m"])
+def test_extreme_sizes_match_the_hand_values(build, box, pts):
+    b = build(box)
+    pts = np.asarray(pts, float)
+    if box.wall_thickness:
+        pts[:, 1] += box.wall_thickness
+    r = run_points(b, pts)
+    half = (box.window_x[1] - box.window_x[0]) / 2
+    for i, p in enumerate(pts):
+        expected = sight_angle_deg(p[0], p[1], half=half, reveal=box.wall_thickness)
+        assert abs(r["h_angle_deg"][i] - expected) <= r["h_angle_err_deg"][i] + 1e-9, (i, r["h_angle_deg"][i], expected)
+    assert np.allclose(r["glazing"], exact_glazing(b, pts), rtol=1e-9, atol=1e-12)
+    if not box.wall_thickness:
+        assert_layers(r, pts, box)
+
+
+# --- places and dates -----------------------------------------------------------------------
+
+def _hours(build, lat, lon, tz, date="02-01", north=0.0, **sun):
+    b = build(BoxRoom(building_height=0), location={"latitude": lat, "longitude": lon, "timezone": tz},
+              sunlight={"date": date, "period": {"start": date, "end": date}, "refraction": False, **sun},
+              view=None, true_north_deg=north, sub=f"s{lat}_{lon}_{north}")
+    r = sunlight.assess_room(b.engine, b.scene, b.room, b.sun_cfg, b.project.config["location"], b.thresholds)
+    return r
+
+
+def _declination(date, utc_offset_h=0.0):
+    noon = dt.datetime.fromisoformat(f"2026-{date}T12:00:00+00:00").timestamp() - utc_offset_h * 3600
+    return float(sp.declination([noon])[0])
+
+
+def _formula_hours(lat, dec, gamma):
+    phi, d, g = np.radians(lat), np.radians(dec), np.radians(gamma)
+    c = (np.sin(g) - np.sin(phi) * np.sin(d)) / (np.cos(phi) * np.cos(d))
+    return 0.0 if c >= 1 else 2 * np.degrees(np.arccos(max(c, -1.0))) / 15
+
+
+def test_polar_night_gives_zero_hours_not_an_error(build):
+    r = _hours(build, 78.0, 15.6, "Arctic/Longyearbyen")
+    assert r["hours"][0] == 0.0 and r["level"] == 0 and r["error_h"][0] == 0.0
+
+
+@pytest.mark.parametrize("lat, lon, tz, offset", [
+    (0.0, 0.0, "UTC", 0.0),  # the equator
+    (28.6, 77.2, "Asia/Kolkata", 5.5),  # a half-hour time zone
+    (52.0, 179.9, "Etc/GMT-12", 12.0),  # next to the antimeridian, east ...
+    (52.0, -179.9, "Etc/GMT+12", -12.0),  # ... and west
+])
+def test_unobstructed_hours_match_the_hour_angle_formula_anywhere(build, lat, lon, tz, offset):
+    """South window, no obstruction, 11 deg minimum altitude, 1 February: in front of the window
+    the whole day at these latitudes, so the formula applies (declination at local noon)."""
+    r = _hours(build, lat, lon, tz)
+    expected = _formula_hours(lat, _declination("02-01", offset), 11.0)
+    assert abs(r["hours"][0] - expected) < 3 / 60, (r["hours"][0], expected)  # declination drift over the day
+
+
+def test_southern_hemisphere_north_window_sees_the_sun_only_north_of_the_prime_vertical(build):
+    """34 S in February, window facing true north (true north along the model's -Y):
+    the sun stands north of the east-west line between the hour angles +-acos(tan dec / tan lat)."""
+    lat = -34.0
+    r = _hours(build, lat, 18.4, "Etc/GMT-1", north=180.0)
+    dec = _declination("02-01", 1.0)
+    expected = 2 * np.degrees(np.arccos(np.tan(np.radians(dec)) / np.tan(np.radians(lat)))) / 15
+    assert abs(r["hours"][0] - expected) < 3 / 60, (r["hours"][0], expected)
+
+
+def test_sun_exactly_at_the_minimum_altitude_at_noon_counts_for_no_time(build):
+    lat, date = 52.0, "02-01"
+    noon_alt = 90 - lat + _declination(date)
+    r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=round(noon_alt, 6))
+    assert r["hours"][0] < 2 / 60  # a touch at noon, not an interval
+    r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=round(noon_alt + 0.5, 6))
+    assert r["hours"][0] == 0.0
+
+
+def test_sun_grazing_the_window_plane_at_the_equinox(build):
+    """At the equinox the sun rises and sets in the window's plane (due east and west): with no
+    minimum altitude the window sees it from sunrise to sunset."""
+    r = _hours(build, 52.0, 0.0, "UTC", date="03-20", min_altitude_deg=0.0)
+    expected = _formula_hours(52.0, _declination("03-20"), 0.0)
+    assert abs(r["hours"][0] - expected) < 5 / 60
+
+
+# --- extremes of the knobs ------------------------------------------------------------------
+
+@pytest.mark.parametrize("timestep_min, tolerance_s", [(1 / 60, 1.0), (60.0, 1.0), (5.0, 0.01)])
+def test_timestep_and_tolerance_extremes(build, timestep_min, tolerance_s):
+    r = _hours(build, 52.0, 0.0, "UTC", timestep_min=timestep_min, tolerance_s=tolerance_s)
+    ref = _hours(build, 52.0, 0.0, "UTC")
+    assert abs(r["hours"][0] - ref["hours"][0]) <= r["error_h"][0] + ref["error_h"][0] + 1e-9
+    assert r["error_h"][0] <= 2 * tolerance_s / 3600 + 1e-12
+
+
+def test_grid_spacing_larger_than_the_room_gives_one_point(build):
+    b = build(BoxRoom(), view={"grid_spacing_m": 50.0})
+    res = view.assess_room(b.engine, b.scene, b.room, b.view_cfg, b.thresholds)
+    assert [len(e["points_local"]) for e in res["eye_heights"]] == [1, 1]
+
+
+@pytest.mark.parametrize("threshold, visible", [(0.0, True), (4 * np.pi, False)])
+def test_layer_thresholds_of_zero_and_four_pi(build, threshold, visible):
+    b = build(BoxRoom(), view={"layer_threshold_sr": float(threshold)})
+    r = run_points(b, [[0.3, 2.0, 1.2]])
+    assert bool(r["visible"]["sky"][0]) is visible and bool(r["visible"]["landscape"][0]) is visible
+    assert r["level_layers"][0] == (3 if visible else 0)
