@@ -95,6 +95,8 @@ def point_p(engine, room, window, cfg: dict) -> tuple[np.ndarray, float, list]:
         q = centre
     depth = reveal_depth(engine, q, n, a, 0.5 * (s.max() - s.min()), cfg["max_reveal_depth_m"])
     notes = []
+    if depth < GLAZING_OFFSET_M:  # no reveal, or only the wall's own plane found again through round-off
+        depth = 0.0
     if depth > 0:
         p = q - depth * n
     else:

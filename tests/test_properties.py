@@ -1,7 +1,9 @@
-"""Invariants checked with hypothesis: results do not depend on where the model sits in space."""
+"""Invariants checked with hypothesis: results do not depend on where and how the model is placed,
+in which units and files it is written, or in which order its faces come."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -48,3 +50,52 @@ def test_issue_offsets(build):
     # the georeferenced cases of the issue: RD New coordinates near Delft and a geocentric-like offset
     for offset in ((85000.0, 446000.0, 0.0), (3.9e6, 3.0e5, 5.0e6)):
         _check(build, offset)
+
+
+# --- rotation (true north turned alike), units, files and face order --------------------------
+
+def _rotated(points, deg):
+    c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+    return points @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]).T
+
+
+def _compare(r0, s0, r1, s1):
+    assert np.all(np.abs(r1["h_angle_deg"] - r0["h_angle_deg"]) <= 0.01)
+    assert np.all(np.abs(r1["distance"] - r0["distance"]) <= 1e-3)
+    for k in ("sky", "landscape", "ground"):
+        assert np.all(np.abs(r1[k] - r0[k]) <= np.maximum(r0["err_" + k] + r1["err_" + k], 1e-9)), k
+    assert np.all(np.abs(s1["hours"] - s0["hours"]) <= s0["error_h"] + s1["error_h"] + 1e-9)
+
+
+def _reference_values(build):
+    if "ref" not in _reference:
+        ref = build(BoxRoom(), sunlight=SUN, view=VIEW, sub="ref")
+        ref.offset = np.zeros(3)
+        _reference["ref"] = _values(ref)
+    return _reference["ref"]
+
+
+def _values_at(b, pts):
+    rg = view.room_geometry(b.scene, b.room)
+    r = view.assess_points(b.engine, rg, b.scene.to_local(pts), b.view_cfg, b.thresholds)
+    s = sunlight.assess_room(b.engine, b.scene, b.room, b.sun_cfg, b.project.config["location"], b.thresholds)
+    return r, s
+
+
+@settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.floats(-180.0, 180.0))
+def test_rotation_with_true_north_turned_alike(build, deg):
+    r0, s0 = _reference_values(build)
+    b = build(BoxRoom(), sunlight=SUN, view=VIEW, rotate_deg=deg, sub=f"r{abs(hash(deg))}")
+    r1, s1 = _values_at(b, _rotated(PTS, deg))
+    _compare(r0, s0, r1, s1)
+
+
+@pytest.mark.parametrize("kw", [{"scale": 1000.0}, {"scale": 100.0}, {"split_files": True}, {"shuffle_seed": 7},
+                                {"shuffle_seed": 11, "split_files": True}],
+                         ids=["mm", "cm", "one-file-per-object", "faces-shuffled", "shuffled-and-split"])
+def test_units_files_and_face_order_do_not_change_the_answers(build, kw):
+    r0, s0 = _reference_values(build)
+    b = build(BoxRoom(), sunlight=SUN, view=VIEW, sub="k" + "_".join(map(str, kw.values())), **kw)
+    r1, s1 = _values_at(b, PTS)
+    _compare(r0, s0, r1, s1)
