@@ -26,14 +26,17 @@ SCHEMA_VERSION = "1.0"
 REPORT_FILES = ("report.json", "view_points.csv", "sunlight_days.csv", "report.md")
 
 VIEW_METHOD = {
-    "solid_angle_sr": "window triangles subdivided per viewpoint to view.angular_resolution_deg, each cell weighted by "
-                      "its exact solid angle (Van Oosterom and Strackee 1983) and classified by rays through its centroid "
-                      "and vertices; cells whose samples disagree split (at most view.refine_levels times) until each layer's "
-                      "error estimate is within max(view.solid_angle_rel_tolerance x value, view.solid_angle_abs_tolerance_sr); "
-                      "error = half the solid angle of the cells still mixed",
-    "horizontal_sight_angle_deg": "horizontal fan every view.horizontal_resolution_deg, each change between leaving "
-                                  "through a window and blocked located by bisection to view.angle_tolerance_deg; "
-                                  "error = sum of remaining bracket widths",
+    "solid_angle_sr": "each window sampled per viewpoint on a grid uniform in the gnomonic angles of its plane, cells at "
+                      "most view.angular_resolution_deg each way plus a grid line through the image of every frame vertex "
+                      "(opaque faces within view.frame_depth_m of the glazing: mullions, transoms, reveals); each cell "
+                      "weighted by its exact solid angle and classified by the rays through its corners, shared with its "
+                      "neighbours; cells whose samples disagree split in four (at most view.refine_levels times) until each "
+                      "layer's error estimate is within max(view.solid_angle_rel_tolerance x value, "
+                      "view.solid_angle_abs_tolerance_sr); error = half the solid angle of the cells still mixed; features "
+                      "narrower than a cell and not part of a frame can be missed",
+    "horizontal_sight_angle_deg": "horizontal fan over the azimuths of the windows every view.horizontal_resolution_deg, "
+                                  "each change between leaving through a window and blocked located by bisection to "
+                                  "view.angle_tolerance_deg; error = sum of remaining bracket widths and end insets",
     "outside_distance_m": "weighted statistic (view.distance_statistic) of the distance from the glazing plane to the "
                           "first landscape face, perpendicular to the window; error = gap to the neighbouring sampled distance",
 }
@@ -111,7 +114,7 @@ def _view_json(scene, res: dict, required: str, cfg: dict) -> dict:
             "max_solid_angle_error_sr": _r(err["solid_angle_sr"]),
             "max_horizontal_sight_angle_error_deg": _r(err["horizontal_sight_angle_deg"], 6),
             "max_outside_distance_error_m": _r(err["outside_distance_m"], 4),
-            "smallest_feature_resolved_deg": {"solid_angle": cfg["angular_resolution_deg"],
+            "smallest_feature_resolved_deg": {"solid_angle": cfg["angular_resolution_deg"],  # frames: exactly
                                               "horizontal_sight_angle": cfg["horizontal_resolution_deg"]},
             "method": VIEW_METHOD,
         },

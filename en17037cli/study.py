@@ -59,20 +59,21 @@ class Ladder:
     quantities: tuple
     per_point: bool = True  # the rungs share viewpoints (False for the grid spacing)
     extra: dict = field(default_factory=dict)  # overrides applied to every rung
+    levels: bool = False  # the knob counts halvings: the step size is 2^-value
 
 
 LADDERS = (
     Ladder("view.angular_resolution_deg", (4.0, 2.0, 1.0, 0.5),
            {"view.angular_resolution_deg": 0.25, "view.refine_levels": 4, "view.solid_angle_rel_tolerance": 0,
             "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground")),
-    Ladder("view.refine_levels", (0, 1, 2, 3),
+    Ladder("view.refine_levels", (0, 1, 2, 3, 4),
            {"view.angular_resolution_deg": 0.25, "view.refine_levels": 4, "view.solid_angle_rel_tolerance": 0,
-            "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground")),
+            "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground"), levels=True),
     Ladder("view.horizontal_resolution_deg", (2.0, 1.0, 0.5, 0.2, 0.1), {"view.horizontal_resolution_deg": 0.02},
            ("sight_angle", "distance")),
     Ladder("view.angle_tolerance_deg", (0.1, 0.01, 1e-3, 1e-4), {"view.angle_tolerance_deg": 1e-6}, ("sight_angle",)),
     Ladder("view.grid_spacing_m", (2.0, 1.0, 0.5), {"view.grid_spacing_m": 0.25}, ("share_medium",), per_point=False),
-    Ladder("sunlight.timestep_min", (60.0, 30.0, 15.0, 5.0), {"sunlight.timestep_min": 1.0, "sunlight.tolerance_s": 0.01},
+    Ladder("sunlight.timestep_min", (60.0, 15.0, 5.0, 2.0, 1.0), {"sunlight.timestep_min": 0.25, "sunlight.tolerance_s": 0.01},
            ("hours",), extra={"sunlight.tolerance_s": 0.01}),
     Ladder("sunlight.tolerance_s", (60.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("hours",)),
 )
@@ -209,7 +210,8 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
                 qr = [r for r in rung_rows if r["quantity"] == q]
                 ref_est = ref[q][1][np.isfinite(ref[q][1])]
                 floor = max(ROUND_OFF * targets[QUANTITIES[q].kind], 2.0 * float(ref_est.max()) if ref_est.size else 0.0)
-                orders[(lad.knob, q)] = observed_order([r["value"] for r in qr], [r["error"] for r in qr], floor)
+                h = [2.0 ** -r["value"] if lad.levels else r["value"] for r in qr]
+                orders[(lad.knob, q)] = observed_order(h, [r["error"] for r in qr], floor)
             ok = {}
             for r in rung_rows:
                 ok.setdefault(r["value"], []).append(r["within_target"])

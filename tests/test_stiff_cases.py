@@ -214,11 +214,16 @@ def test_southern_hemisphere_north_window_sees_the_sun_only_north_of_the_prime_v
 
 
 def test_sun_exactly_at_the_minimum_altitude_at_noon_counts_for_no_time(build):
+    """The day's highest altitude (SPA, every second, no refraction) as the minimum altitude: the
+    sun touches it for an instant; a little higher it never reaches it."""
     lat, date = 52.0, "02-01"
-    noon_alt = 90 - lat + _declination(date)
-    r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=round(noon_alt, 6))
-    assert r["hours"][0] < 2 / 60  # a touch at noon, not an interval
-    r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=round(noon_alt + 0.5, 6))
+    t0 = dt.datetime.fromisoformat(f"2026-{date}T10:00:00+00:00").timestamp()
+    t = t0 + np.arange(0, 4 * 3600, 1.0)
+    elev, _ = sp.solar_position(t, lat, 0.0, 0.0, 1013.25, 12.0, refraction=False)
+    top = float(elev.max())
+    r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=top)
+    assert r["hours"][0] < 10 / 3600  # an instant, not an interval
+    r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=top + 0.01)
     assert r["hours"][0] == 0.0
 
 

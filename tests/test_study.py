@@ -1,0 +1,55 @@
+"""The convergence study on a small box-room project (the long studies stay out of CI)."""
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+from click.testing import CliRunner
+
+from en17037cli import study
+from en17037cli.cli import cli
+from en17037cli.samples import BoxRoom, box_room_project
+
+SUN = {"date": "02-01", "period": {"start": "02-01", "end": "02-01"}}
+
+
+def test_tolerance_ladder_converges_at_first_order(tmp_path):
+    """Bisection halves the bracket per step: the error of the hours falls like the tolerance."""
+    path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=SUN)
+    lad = study.Ladder("sunlight.tolerance_s", (30.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("hours",))
+    res = study.convergence(path, tmp_path / "out", (lad,), log=lambda m: None)
+    errors = [r["error"] for r in res["rows"]]
+    assert all(a >= b for a, b in zip(errors, errors[1:]))  # finer never worse
+    assert 0.7 < res["orders"][("sunlight.tolerance_s", "hours")] < 1.3
+    # each rung's own estimate covers its error (against a reference 1000 times finer)
+    assert all(r["error"] <= r["estimate"] + 0.01 for r in res["rows"])
+    # targets: 2 s for hours; the cheapest rung within it is the coarsest that meets it
+    ok = [r["value"] for r in res["rows"] if r["within_target"]]
+    assert res["cheapest"]["sunlight.tolerance_s"] in ok
+    rows = list(csv.DictReader((tmp_path / "out" / "convergence.csv").open()))
+    assert len(rows) == 4 and rows[0]["quantity"] == "hours" and float(rows[-1]["error"]) <= 2.0
+
+
+def test_view_ladder_and_command_line(tmp_path):
+    path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=SUN, view={"grid_spacing_m": 2.0})
+    out = tmp_path / "out"
+    r = CliRunner().invoke(cli, ["study", "convergence", str(path), "--out", str(out), "--ladder",
+                                 "view.angle_tolerance_deg", "--target", "angle_deg=0.001", "--points", "3"])
+    assert r.exit_code == 0, r.output
+    assert "observed order of sight_angle" in r.output and "cheapest view.angle_tolerance_deg" in r.output
+    rows = list(csv.DictReader((out / "convergence.csv").open()))
+    err = np.array([float(x["error"]) for x in rows])
+    assert np.all(err <= np.array([float(x["estimate"]) for x in rows]) + 1e-9)  # the bracket bounds the error
+    assert err[-1] < 1e-3
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return
+    assert (out / "convergence.png").stat().st_size > 1000
+
+
+def test_unknown_ladder_and_target_are_input_errors(tmp_path):
+    path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=SUN)
+    for args in (["--ladder", "view.nope"], ["--target", "speed=1"], ["--target", "angle_deg=x"]):
+        r = CliRunner().invoke(cli, ["study", "convergence", str(path), "--out", str(tmp_path / "o"), *args])
+        assert r.exit_code == 2 and r.output.startswith("error: --")
