@@ -71,7 +71,8 @@ LADDERS = (
             "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground"), levels=True),
     Ladder("view.horizontal_resolution_deg", (2.0, 1.0, 0.5, 0.2, 0.1), {"view.horizontal_resolution_deg": 0.02},
            ("sight_angle", "distance")),
-    Ladder("view.angle_tolerance_deg", (0.1, 0.01, 1e-3, 1e-4), {"view.angle_tolerance_deg": 1e-6}, ("sight_angle",)),
+    # reference 1e-5 deg: finer brackets are below the float32 resolution of a ray direction (about 3e-6 deg)
+    Ladder("view.angle_tolerance_deg", (0.1, 0.01, 1e-3, 1e-4), {"view.angle_tolerance_deg": 1e-5}, ("sight_angle",)),
     Ladder("view.grid_spacing_m", (2.0, 1.0, 0.5), {"view.grid_spacing_m": 0.25}, ("share_medium",), per_point=False),
     Ladder("sunlight.timestep_min", (60.0, 15.0, 5.0, 2.0, 1.0), {"sunlight.timestep_min": 0.25, "sunlight.tolerance_s": 0.01},
            ("hours",), extra={"sunlight.tolerance_s": 0.01}),
@@ -245,21 +246,25 @@ def _plot(path: Path, rows: list) -> Path | None:
         import matplotlib.pyplot as plt
     except ImportError:
         return None
-    fig, ax = plt.subplots(figsize=(9, 6))
+    fig, ax = plt.subplots(figsize=(10, 6))
+    colours = plt.get_cmap("tab20").colors
+    markers = "osD^v<>ph*"
     lines = {}
     for r in rows:
         lines.setdefault((r["ladder"], r["quantity"]), []).append(r)
-    for (ladder, q), rs in lines.items():
+    ladders = list(dict.fromkeys(k[0] for k in lines))
+    for i, ((ladder, q), rs) in enumerate(lines.items()):
         t = np.array([r["wall_s"] for r in rs])
         e = np.array([r["error"] / r["target"] for r in rs])
         ok = np.isfinite(e) & (e > 0)
         if ok.any():
-            ax.loglog(t[ok], e[ok], marker="o", label=f"{q} ({ladder.split('.', 1)[1]})")
+            ax.loglog(t[ok], e[ok], marker=markers[ladders.index(ladder) % len(markers)], color=colours[i % len(colours)],
+                      label=f"{q} ({ladder.split('.', 1)[1]})")
     ax.axhline(1.0, color="k", lw=0.8, ls="--")
     ax.set_xlabel("wall time of the engine stage [s]")
     ax.set_ylabel("max error / target")
     ax.set_title("Convergence: error against run time (reference: finer setting than any rung)")
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     tmp = path.with_name(path.stem + ".tmp.png")
