@@ -37,8 +37,8 @@ from en17037cli.geometry import offset_rectangle_solid_angle
 from en17037cli.raytrace import (BLOCKED, GLAZING_OFFSET_M, GROUND_HIT, LANDSCAPE_HIT, SKY, outside_class,
                                  trace_through_windows)
 from en17037cli.scene import GROUND, LANDSCAPE
-from en17037cli.view_math import (clipped_solid_angle, frame_vertices, grid_points, points_in_triangles,
-                                  weighted_statistic, window_frame)
+from en17037cli.view_math import (clipped_solid_angle, frame_vertices, grid_points, in_triangle,
+                                  points_in_triangles, weighted_statistic, window_frame)
 
 #: Samples on a window's outline are moved this fraction of a cell inwards, so that no ray is aimed
 #: exactly at the line where glazing and wall meet.
@@ -338,7 +338,7 @@ def _cell_weights(rg: RoomGeometry, P: Patches, patch, G, full):
         ci, tri = ci[overlap], tri[overlap]
         inside4 = np.ones(len(ci), dtype=bool)
         for j in range(4):  # a cell whose four corners lie in one (convex) triangle lies inside it
-            inside4 &= _in_triangle(corners[ci, j], tri)
+            inside4 &= in_triangle(corners[ci, j], tri)
         is_full = np.zeros(len(sel), dtype=bool)
         is_full[ci[inside4]] = True
         part = ~is_full[ci]
@@ -355,15 +355,6 @@ def _cell_weights(rg: RoomGeometry, P: Patches, patch, G, full):
         full[sel] = is_full
         extra[sel] = np.where(is_full[:, None], np.nan, ex)
     return weight, full, extra
-
-
-def _in_triangle(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """Row-wise: whether point i (m, 2) lies in (or on) triangle i (m, 3, 2)."""
-    def cross(a, b, c):
-        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-
-    s1, s2, s3 = cross(tri[:, 0], tri[:, 1], pts), cross(tri[:, 1], tri[:, 2], pts), cross(tri[:, 2], tri[:, 0], pts)
-    return ((s1 >= 0) & (s2 >= 0) & (s3 >= 0)) | ((s1 <= 0) & (s2 <= 0) & (s3 <= 0))
 
 
 #: Sample classes that are layers, with their report keys.

@@ -189,26 +189,35 @@ def _area2(t: np.ndarray) -> float:
     return abs((t[1, 0] - t[0, 0]) * (t[2, 1] - t[0, 1]) - (t[1, 1] - t[0, 1]) * (t[2, 0] - t[0, 0]))
 
 
-def points_in_triangles(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """Whether each point lies in (or on the edge of) any of the triangles.
+def in_triangle(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Whether point i lies in (or on the edge of) triangle i, row by row.
 
     Parameters
     ----------
-    xy : (m, 2) float; tri : (k, 3, 2) float, same units
+    pts : (..., 2) float; tri : (..., 3, 2) float, broadcastable, same units
+
+    Returns
+    -------
+    (...) bool; edges are included with a tolerance of 1e-12 of the triangle's doubled area
+    """
+    a, b, c = tri[..., 0, :], tri[..., 1, :], tri[..., 2, :]
+
+    def cross(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
+    s1, s2, s3 = cross(a, b, pts), cross(b, c, pts), cross(c, a, pts)
+    tol = np.abs(cross(a, b, c)) * 1e-12
+    return ((s1 >= -tol) & (s2 >= -tol) & (s3 >= -tol)) | ((s1 <= tol) & (s2 <= tol) & (s3 <= tol))
+
+
+def points_in_triangles(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Whether each point (m, 2) lies in (or on the edge of) any of the triangles (k, 3, 2).
 
     Returns
     -------
     (m,) bool
     """
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-
-    def side(p, q, r):  # (m, k) sign of the cross product (q - p) x (r - p)
-        return (q[None, :, 0] - p[None, :, 0]) * (r[:, None, 1] - p[None, :, 1]) - (q[None, :, 1] - p[None, :, 1]) * (r[:, None, 0] - p[None, :, 0])
-
-    s1, s2, s3 = side(a, b, xy), side(b, c, xy), side(c, a, xy)
-    scale = np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))[None, :] * 1e-12
-    inside = ((s1 >= -scale) & (s2 >= -scale) & (s3 >= -scale)) | ((s1 <= scale) & (s2 <= scale) & (s3 <= scale))
-    return np.any(inside, axis=1)
+    return np.any(in_triangle(xy[:, None, :], tri[None, :, :, :]), axis=1)
 
 
 def _clip_halfplane(poly: np.ndarray, count: np.ndarray, axis: int, bound: np.ndarray, sign: float):
