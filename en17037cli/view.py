@@ -69,10 +69,10 @@ def room_geometry(scene, room, frame_depth_m: float = 0.5) -> RoomGeometry:
     from en17037cli.raytrace import room_window_group
     from en17037cli.scene import WINDOW
 
-    opaque = scene.vertices[scene.triangles[scene.layer != WINDOW]]
+    opaque = scene.triangles[scene.layer != WINDOW]
     frames = [window_frame(w, i) for i, w in enumerate(room.windows)]
     for f in frames:
-        f.frame_xys = frame_vertices(f, opaque, frame_depth_m)
+        f.frame_xys = frame_vertices(f, scene.vertices, opaque, frame_depth_m)
     wof = np.full(len(scene.triangles), -1, dtype=np.int64)
     for f in frames:
         wof[f.face_ids] = f.index

@@ -157,7 +157,7 @@ def window_frame(window, index: int) -> WindowFrame:
                        bool(abs(poly.area - box) <= 1e-9 * box), np.asarray(window.face_ids))
 
 
-def frame_vertices(frame: WindowFrame, opaque_triangles: np.ndarray, depth_m: float) -> np.ndarray:
+def frame_vertices(frame: WindowFrame, vertices: np.ndarray, triangles: np.ndarray, depth_m: float) -> np.ndarray:
     """Vertices of the opaque faces that frame a window: mullions, transoms, frames, reveals.
 
     A face is part of the frame when all its vertices lie within ``depth_m`` of the glazing
@@ -167,18 +167,18 @@ def frame_vertices(frame: WindowFrame, opaque_triangles: np.ndarray, depth_m: fl
     Parameters
     ----------
     frame : WindowFrame
-    opaque_triangles : (m, 3, 3) float [m], local frame
+    vertices : (n, 3) float [m], local frame
+    triangles : (m, 3) int, the opaque faces
     depth_m : float [m]
 
     Returns
     -------
     (e, 3) float [m], unique (x, y, s) in the window's (u, v, n) frame
     """
-    rel = opaque_triangles - frame.origin
-    s = rel @ frame.n
-    near = np.all(np.abs(s) <= depth_m, axis=1)
-    rel, s = rel[near], s[near]
-    x, y = rel @ frame.u, rel @ frame.v
+    s_v = (vertices - frame.origin) @ frame.n  # per vertex first: no (m, 3, 3) copy of a large scene
+    tri = triangles[np.all(np.abs(s_v[triangles]) <= depth_m, axis=1)]
+    rel = vertices[tri] - frame.origin
+    s, x, y = rel @ frame.n, rel @ frame.u, rel @ frame.v
     over = (x.min(axis=1) < frame.xmax) & (x.max(axis=1) > frame.xmin) & (y.min(axis=1) < frame.ymax) & (y.max(axis=1) > frame.ymin)
     xys = np.stack([x[over], y[over], s[over]], axis=-1).reshape(-1, 3)
     return np.unique(np.round(xys, 9), axis=0)
