@@ -36,7 +36,7 @@ GROUPS = {
 
 
 def room_window_group(room) -> str:
-    """Name of the group holding the window faces of ``room`` (see :meth:`RayEngine.define`)."""
+    """Name of the engine group holding the window faces of ``room`` (one per room, set up by :class:`RayEngine`)."""
     return f"windows of room {room.index}"
 
 

@@ -357,19 +357,19 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows, names, name_i
     opaque = np.flatnonzero(layer != WINDOW)
     if len(opaque) == 0:
         return
-    tv = vertices[triangles[opaque]]
     for w in windows:  # one pass per window
         c, n = w.centroid, w.normal
-        near = np.all(np.abs((tv - c) @ n) <= UNCUT_DISTANCE_M, axis=1)
-        if not near.any():
+        s_v = (vertices - c) @ n  # per vertex first: no (m, 3, 3) copy of a large scene
+        near = opaque[np.all(np.abs(s_v[triangles[opaque]]) <= UNCUT_DISTANCE_M, axis=1)]
+        if len(near) == 0:
             continue
         a, up = window_axes(n)
         rel_w = w.triangles - c
         win = shapely.union_all(shapely.polygons(np.stack([rel_w @ a, rel_w @ up], axis=-1))).buffer(0)
-        rel = tv[near] - c
+        rel = vertices[triangles[near]] - c
         faces = shapely.polygons(np.stack([rel @ a, rel @ up], axis=-1))
         overlap = shapely.area(shapely.intersection(shapely.make_valid(faces), win))
-        ids = name_id[opaque[near]]
+        ids = name_id[near]
         per_object = np.bincount(ids, overlap, len(names))
         worst = int(np.argmax(per_object))
         if per_object[worst] > UNCUT_SHARE * w.area_m2:
