@@ -32,6 +32,7 @@ class BoxRoom:
     mullion_width: float = 0.05
     second_pane: float = 0.0  # > 0: a second glazing pane this far inside the first (double glazing)
     uncut_wall: bool = False  # the facade wall runs on behind the glazing, with no opening cut
+    gap: float = 0.0  # > 0: two panes with an opaque strip this wide between them, at x = 0
 
 
 #: Mullion plates stand this far inside the glazing plane (room side) [m].
@@ -78,6 +79,10 @@ def box_room_polygons(b: BoxRoom) -> dict:
     if b.triangle_window:
         glazing = [[(wx0, 0.0, wz0), (wx1, 0.0, wz0), (wx0, 0.0, wz1)]]
         room.append([(wx1, 0.0, wz0), (wx1, 0.0, wz1), (wx0, 0.0, wz1)])
+    if b.gap > 0:
+        g2 = b.gap / 2
+        glazing = [_rect_y(0.0, wx0, -g2, wz0, wz1), _rect_y(0.0, g2, wx1, wz0, wz1)]
+        room.append(_rect_y(0.0, -g2, g2, wz0, wz1))
     if b.second_pane > 0:
         glazing.append(_rect_y(b.second_pane, wx0, wx1, wz0, wz1))
     for xm in b.mullions:

@@ -107,12 +107,20 @@ def test_nan_degenerate_and_duplicate_faces_are_dropped_and_counted(build, tmp_p
     n = sum(1 for line in text.splitlines() if line.startswith("v "))
     extra = ["o room", "v nan 0 0", "v 1 1 1", "v 2 2 2", "v 3 3 3",  # a NaN vertex, a zero-area (collinear) face
              f"f {n + 1} {n + 2} {n + 3}", f"f {n + 2} {n + 3} {n + 4}"]
-    glazing = [line for line in text.splitlines() if line.startswith("f ")][-1]
-    obj.write_text(text + "\n".join(extra) + "\n")
+    faces = [line for line in text.splitlines() if line.startswith(("o ", "f "))]  # every face once more
+    obj.write_text(text + "\n".join(extra + faces) + "\n")
     s = build_scene(load_project(path))
     assert any("degenerate, NaN or infinite faces dropped" in w for w in s.warnings)
-    assert len(s.triangles) == len(b0.scene.triangles)
-    assert glazing  # the model still has its faces
+    assert len(s.triangles) == 2 * len(b0.scene.triangles)
+    # duplicated faces (the glazing included) change nothing
+    from tests.conftest import Built
+
+    b1 = Built(path)
+    pts = np.array([[0.3, 2.0, 1.2], [-1.2, 4.5, 1.7]])
+    r0, r1 = run_points(b0, pts), run_points(b1, pts)
+    b1.engine.close()
+    for k in ("sky", "landscape", "ground", "glazing", "h_angle_deg", "distance"):
+        assert np.allclose(r0[k], r1[k], atol=1e-9), k
 
 
 def test_a_layer_missing_entirely_leaves_sky_and_ground_by_direction(build, tmp_path):

@@ -107,3 +107,22 @@ def test_mullions_5_cm_wide_are_resolved_from_the_back_of_the_room(build):
         lost = sum(np.degrees(np.arctan2(xm + 0.025 - x0, y0 - MULLION_GAP) - np.arctan2(xm - 0.025 - x0, y0 - MULLION_GAP))
                    for xm in box.mullions)
         assert abs(r["h_angle_deg"][i] - (full - lost)) <= r["h_angle_err_deg"][i] + 1e-9
+
+
+def test_a_2_cm_gap_between_two_windows_from_the_back_of_a_deep_room(build):
+    """Two panes with a 2 cm opaque strip between them, seen from 8 m (0.14 deg): each pane is a
+    window of its own, so the strip is excluded exactly from the solid angles, and the 0.1 deg
+    fan sees it for the sight angle."""
+    box = BoxRoom(depth=9.0, gap=0.02)
+    b = build(box)
+    assert len(b.room.windows) == 2
+    pts = np.array([[0.0, 8.0, 1.2], [0.4, 8.5, 1.7]])
+    r = run(b, pts)
+    for i, p in enumerate(pts):
+        x0, y0 = p[0], p[1]
+        gap = np.degrees(np.arctan2(0.01 - x0, y0) - np.arctan2(-0.01 - x0, y0))
+        assert abs(r["h_angle_deg"][i] - (sight_angle_deg(x0, y0) - gap)) <= r["h_angle_err_deg"][i] + 1e-9
+        visible = shapely.box(-1, 0.8, -0.01, 2.2).union(shapely.box(0.01, 0.8, 1, 2.2))
+        for key, band in zip(("sky", "landscape", "ground"), bands(p, box)):
+            exact = polygon_solid_angle(p, visible.intersection(band))
+            assert abs(r[key][i] - exact) <= r["err_" + key][i] + 1e-9, (i, key)
