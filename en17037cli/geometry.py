@@ -148,7 +148,7 @@ def rectangle_solid_angle(a: float, b: float, d: float) -> float:
     formula; see e.g. Mathar, R. J. (2015), "Solid angle of a rectangular plate",
     Max-Planck Institute for Astronomy, Heidelberg.
     """
-    return float(np.arctan(a * b / (d * np.sqrt(a * a + b * b + d * d))))
+    return float(offset_rectangle_solid_angle(0.0, a / d, 0.0, b / d))
 
 
 def window_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -70,3 +70,28 @@ def test_near_threshold():
     # a single threshold value (a view layer's solid angle): 0 sr exactly is not near 0 sr,
     # 4e-4 sr with a 5e-4 sr estimate is
     assert near_threshold([0.0, 4e-4, 2e-3], [0.0, 5e-4, 5e-4], [0.0]).tolist() == [False, True, False]
+
+
+def test_offset_rectangles_and_clipped_triangles_against_triangle_sums():
+    """Any rectangle on the unit-distance plane (foot inside or outside it) equals the sum of its
+    two Van Oosterom-Strackee triangles; a triangle clipped to a rectangle equals the fan of the
+    clipped polygon, worked out here by hand for a right triangle cut by a vertical line."""
+    from en17037cli.geometry import offset_rectangle_solid_angle
+    from en17037cli.view_math import clipped_solid_angle
+
+    rng = np.random.default_rng(3)
+    x0, y0 = rng.uniform(-5, 5, (2, 200))
+    x1, y1 = x0 + rng.uniform(0.01, 4, 200), y0 + rng.uniform(0.01, 4, 200)
+    c = np.stack([np.stack([x0, y0, np.ones(200)], 1), np.stack([x1, y0, np.ones(200)], 1),
+                  np.stack([x1, y1, np.ones(200)], 1), np.stack([x0, y1, np.ones(200)], 1)], 1)
+    o = np.zeros((200, 3))
+    vo = triangle_solid_angle(o, c[:, [0, 1, 2]]) + triangle_solid_angle(o, c[:, [0, 2, 3]])
+    assert np.allclose(offset_rectangle_solid_angle(x0, x1, y0, y1), vo, rtol=1e-10, atol=1e-14)
+    # right triangle (0,0) (2,0) (0,2) cut at x <= 1: the quadrilateral (0,0) (1,0) (1,1) (0,2)
+    om, cen = clipped_solid_angle(np.array([[[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]]), np.array([[-1.0, 1.0, -1.0, 3.0]]))
+    quad = np.array([[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 2, 1]], float)
+    exact = triangle_solid_angle(np.zeros((2, 3)), np.array([quad[[0, 1, 2]], quad[[0, 2, 3]]])).sum()
+    assert abs(om[0] - exact) < 1e-12
+    # area centroid of that quadrilateral: triangles (0,0)(1,0)(1,1) area 1/2 and (0,0)(1,1)(0,2) area 1
+    expected = (0.5 * np.array([2 / 3, 1 / 3]) + 1.0 * np.array([1 / 3, 1.0])) / 1.5
+    assert np.allclose(cen[0], expected, atol=1e-12)
