@@ -95,6 +95,9 @@ def test_glazing_over_an_uncut_wall_is_a_modelling_error_naming_both(tmp_path):
     assert "window 'glazing'" in msg and "'model: room'" in msg and "100%" in msg and "cut the opening" in msg
     r = CliRunner().invoke(cli, ["validate", str(path)])
     assert r.exit_code == 2 and r.output.count("\n") == 1
+    out = tmp_path / "report"
+    r = CliRunner().invoke(cli, ["check", str(path), "--out", str(out), "--quiet"])
+    assert r.exit_code == 2 and r.output.count("\n") == 1 and not (out.exists() and any(out.iterdir()))
     # walls cut around the glazing in the same plane are the normal case
     build_scene(load_project(box_room_project(tmp_path / "q", BoxRoom())))
 
@@ -144,6 +147,19 @@ def test_a_layer_missing_entirely_leaves_sky_and_ground_by_direction(build, tmp_
     assert abs(r["sky"][0] - sky) <= r["err_sky"][0] + 1e-9
     assert abs(r["ground"][0] - ground) <= r["err_ground"][0] + 1e-9
     assert r["landscape"][0] == 0 and np.isinf(r["distance"][0])
+
+
+def test_yaml_exponent_floats_are_numbers_in_files_and_overrides(tmp_path):
+    """PyYAML alone reads 1e-5 as the string '1e-5' (YAML 1.1); project files use YAML 1.2 floats."""
+    from en17037cli.project import parse_yaml
+
+    assert parse_yaml("a: 1e-5\nb: -2E3\nc: .5\nd: 02-01\ne: 10") == {"a": 1e-5, "b": -2000.0, "c": 0.5, "d": "02-01", "e": 10}
+    path = box_room_project(tmp_path / "p", BoxRoom(), view={"angle_tolerance_deg": 1e-5})
+    text = path.read_text()
+    path.write_text(text.replace("angle_tolerance_deg: 1.0e-05", "angle_tolerance_deg: 1e-5"))
+    assert "angle_tolerance_deg: 1e-5" in path.read_text()  # as a person would type it
+    p = load_project(path, ["sunlight.tolerance_s=1e-2"])
+    assert p.config["view"]["angle_tolerance_deg"] == 1e-5 and p.config["sunlight"]["tolerance_s"] == 0.01
 
 
 # --- extreme sizes --------------------------------------------------------------------------
