@@ -194,11 +194,12 @@ def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points,
     res = _guard(run)
     console = Console(width=max(Console().width, 120))
     table = Table(title=f"Convergence of {project_file}")
-    for col in ("knob", "value", "quantity", "max error", "estimate", "target", "ok", "time s", "rays"):
+    for col in ("knob", "value", "quantity", "max error", "estimate", "over est.", "target", "ok", "time s", "rays"):
         table.add_column(col, justify="right")
     for r in res["rows"]:
         table.add_row(r["ladder"], st._fmt(r["value"]), r["quantity"], f"{r['error']:.3g}", f"{r['estimate']:.3g}",
-                      f"{r['target']:g}", "yes" if r["within_target"] else "no", f"{r['wall_s']:.3f}", str(r["rays"]))
+                      "-" if r["over_estimate"] < 0 else str(r["over_estimate"]), f"{r['target']:g}",
+                      "yes" if r["within_target"] else "no", f"{r['wall_s']:.3f}", str(r["rays"]))
     console.print(table)
     for (knob, q), p in res["orders"].items():
         console.print(f"observed order of {q} in {knob}: " + ("at round-off or too few rungs" if p != p else f"{p:.2f}"))

@@ -2,7 +2,8 @@
 
 ``en17037 study convergence project.yaml --out DIR`` runs the project's engines once per rung of
 each ladder (one knob varied, the others at the project's values), times each run, and measures
-each reported quantity's error against a reference run at a finer setting than any rung. It
+each reported quantity's error against a reference run at a finer setting than any rung, and how many values
+differ from the reference by more than both runs' error estimates together. It
 writes ``DIR/convergence.csv`` and ``DIR/convergence.png`` (error / target against wall time,
 log-log, one line per quantity), prints a table, the observed order of convergence of each
 quantity (the slope of log error against log knob, fitted over the rungs whose error is above
@@ -161,6 +162,20 @@ def max_error(values: np.ndarray, reference: np.ndarray) -> float:
     return float(np.nanmax(np.where(np.isnan(d), np.inf, d)))
 
 
+def count_over_estimate(values, estimates, reference, reference_estimates) -> int:
+    """Values whose difference from the reference exceeds both runs' error estimates together.
+
+    -1 where the quantity has no estimate (room shares). Equal infinities differ by 0.
+    """
+    v, e, r, re = (np.asarray(a, float) for a in (values, estimates, reference, reference_estimates))
+    if v.shape != r.shape or not np.any(np.isfinite(e)):
+        return -1
+    with np.errstate(invalid="ignore"):
+        d = np.where((v == r) | (np.isnan(v) & np.isnan(r)), 0.0, np.abs(v - r))
+        bound = np.where(np.isfinite(e), e, 0.0) + np.where(np.isfinite(re), re, 0.0)
+        return int(np.count_nonzero(~(d <= bound + 1e-12)))
+
+
 def observed_order(knob_values, errors, floor: float) -> float:
     """Least-squares slope of log(error) against log(knob) over the errors above ``floor``.
 
@@ -202,8 +217,9 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
                     kind = QUANTITIES[q].kind
                     err = max_error(vals[q][0], ref[q][0])
                     est = float(np.nanmax(vals[q][1])) if vals[q][1].size and np.any(np.isfinite(vals[q][1])) else math.nan
+                    over = count_over_estimate(vals[q][0], vals[q][1], ref[q][0], ref[q][1])
                     rung_rows.append({"ladder": lad.knob, "value": value, "quantity": q, "kind": kind, "error": err,
-                                      "estimate": est, "target": targets[kind], "within_target": bool(err <= targets[kind]),
+                                      "estimate": est, "over_estimate": over, "target": targets[kind], "within_target": bool(err <= targets[kind]),
                                       "wall_s": wall, "rays": rays})
                 log(f"  {lad.knob} = {_fmt(value)}: {wall:.3f} s")
             rows += rung_rows
@@ -227,7 +243,8 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
 
 
 def _write_csv(path: Path, rows: list) -> None:
-    cols = ["ladder", "value", "quantity", "kind", "error", "estimate", "target", "within_target", "wall_s", "rays"]
+    cols = ["ladder", "value", "quantity", "kind", "error", "estimate", "over_estimate", "target", "within_target", "wall_s",
+            "rays"]
     tmp = path.with_suffix(".csv.tmp")
     with tmp.open("w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh, lineterminator="\n")

@@ -23,6 +23,7 @@ def test_tolerance_ladder_converges_at_first_order(tmp_path):
     assert 0.7 < res["orders"][("sunlight.tolerance_s", "hours")] < 1.3
     # each rung's own estimate covers its error (against a reference 1000 times finer)
     assert all(r["error"] <= r["estimate"] + 0.01 for r in res["rows"])
+    assert all(r["over_estimate"] == 0 for r in res["rows"])  # day by day, not only the largest
     # targets: 2 s for hours; the cheapest rung within it is the coarsest that meets it
     ok = [r["value"] for r in res["rows"] if r["within_target"]]
     assert res["cheapest"]["sunlight.tolerance_s"] in ok
