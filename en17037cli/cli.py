@@ -197,14 +197,14 @@ def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points,
     for col in ("knob", "value", "quantity", "max error", "estimate", "over est.", "target", "ok", "time s", "rays"):
         table.add_column(col, justify="right")
     for r in res["rows"]:
-        table.add_row(r["ladder"], st._fmt(r["value"]), r["quantity"], f"{r['error']:.3g}", f"{r['estimate']:.3g}",
+        table.add_row(r["ladder"], st.fmt_value(r["value"]), r["quantity"], f"{r['error']:.3g}", f"{r['estimate']:.3g}",
                       "-" if r["over_estimate"] < 0 else str(r["over_estimate"]), f"{r['target']:g}",
                       "yes" if r["within_target"] else "no", f"{r['wall_s']:.3f}", str(r["rays"]))
     console.print(table)
     for (knob, q), p in res["orders"].items():
         console.print(f"observed order of {q} in {knob}: " + ("at round-off or too few rungs" if p != p else f"{p:.2f}"))
     for knob, v in res["cheapest"].items():
-        console.print(f"cheapest {knob} within the targets: " + ("none of the rungs" if v is None else st._fmt(v)))
+        console.print(f"cheapest {knob} within the targets: " + ("none of the rungs" if v is None else st.fmt_value(v)))
     console.print(f"wrote {out_dir / 'convergence.csv'}" + (f" and {res['png']}" if res["png"] else
                                                              " (install matplotlib for convergence.png)"))
 

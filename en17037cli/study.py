@@ -81,7 +81,7 @@ LADDERS = (
 )
 
 
-def _fmt(v) -> str:
+def fmt_value(v) -> str:
     return f"{v:g}" if isinstance(v, float) else str(v)
 
 
@@ -221,7 +221,7 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
                     rung_rows.append({"ladder": lad.knob, "value": value, "quantity": q, "kind": kind, "error": err,
                                       "estimate": est, "over_estimate": over, "target": targets[kind], "within_target": bool(err <= targets[kind]),
                                       "wall_s": wall, "rays": rays})
-                log(f"  {lad.knob} = {_fmt(value)}: {wall:.3f} s")
+                log(f"  {lad.knob} = {fmt_value(value)}: {wall:.3f} s")
             rows += rung_rows
             for q in lad.quantities:
                 qr = [r for r in rung_rows if r["quantity"] == q]
@@ -250,7 +250,7 @@ def _write_csv(path: Path, rows: list) -> None:
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(cols)
         for r in rows:
-            w.writerow([_fmt(r[c]) if isinstance(r[c], float) else r[c] for c in cols])
+            w.writerow([fmt_value(r[c]) if isinstance(r[c], float) else r[c] for c in cols])
     tmp.replace(path)
 
 
