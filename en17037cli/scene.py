@@ -17,7 +17,7 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangle_normals
-from en17037cli.loaders import FORMAT_DEFAULTS, read_model
+from en17037cli.io import read_model
 
 #: Layer codes stored per face. ``ignore`` faces are dropped at load time.
 LAYERS = ("window", "interior", "ground", "landscape")
@@ -135,7 +135,8 @@ def _face_names(name: tuple) -> list:
 
 def _assign_layers(spec: dict, mesh, where: str, stem: str):
     """Per-face layer code (-1 for ignore) and obstructs_sun flag from the file's layer rules."""
-    n_names = len(mesh.names)
+    mesh_names = [tuple(p.attrs.get(k, "") for k in ("object", "group", "material")) for p in mesh.parts]
+    n_names = len(mesh_names)
     if "layer" in spec:
         code = LAYERS.index(spec["layer"]) if spec["layer"] != "ignore" else -1
         by_name = np.full(n_names, code)
@@ -143,7 +144,7 @@ def _assign_layers(spec: dict, mesh, where: str, stem: str):
     else:
         by_name = np.empty(n_names, dtype=int)
         sun = np.empty(n_names, dtype=bool)
-        for i, name in enumerate(mesh.names):
+        for i, name in enumerate(mesh_names):
             candidates = _face_names(tuple(name) + (stem,))
             for rule in spec["layers"]:
                 if any(fnmatch.fnmatchcase(c, rule["match"]) for c in candidates):
@@ -151,13 +152,13 @@ def _assign_layers(spec: dict, mesh, where: str, stem: str):
                     sun[i] = bool(rule.get("obstructs_sun", True))
                     break
             else:
-                first = int(np.flatnonzero(mesh.name_id == i)[0]) if np.any(mesh.name_id == i) else 0
+                first = int(np.flatnonzero(mesh.part == i)[0]) if np.any(mesh.part == i) else 0
                 label = ", ".join(f"'{p}'" for p in name if p) or "(no name)"
                 raise InputError(
                     f"{where}.layers: face {first} ({label}) matches no layer rule; "
                     "add a rule for it or end the list with {match: \"*\", layer: ...}"
                 )
-    return by_name[mesh.name_id], sun[mesh.name_id]
+    return by_name[mesh.part], sun[mesh.part]
 
 
 def load_geometry(project):
@@ -179,10 +180,10 @@ def load_geometry(project):
             continue
         hashes[spec["path"]] = _file_hash(path)
         mesh = read_model(path)
+        mesh_names = [tuple(p.attrs.get(k, "") for k in ("object", "group", "material")) for p in mesh.parts]
         warnings.extend(mesh.warnings)
-        fmt = FORMAT_DEFAULTS.get(path.suffix.lower(), {})
-        units = spec.get("units", fmt.get("units", model["units"]))
-        up = spec.get("up_axis", fmt.get("up_axis", model["up_axis"]))
+        units = spec.get("units", mesh.units or model["units"])
+        up = spec.get("up_axis", mesh.up_axis or model["up_axis"])
         verts = _to_metres_z_up(mesh.vertices, units, up)
         layer, sun = _assign_layers(spec, mesh, where, path.stem)
         tris = mesh.triangles
@@ -197,8 +198,8 @@ def load_geometry(project):
         all_t.append(tris[keep] + offset)
         all_l.append(layer[keep])
         all_s.append(sun[keep])
-        all_id.append(mesh.name_id[keep] + len(names))
-        names.extend(tuple(n) + (path.stem,) for n in mesh.names)
+        all_id.append(mesh.part[keep] + len(names))
+        names.extend(n + (path.stem,) for n in mesh_names)
         offset += len(verts)
     if dropped:
         warnings.append(f"{dropped} degenerate, NaN or infinite faces dropped")

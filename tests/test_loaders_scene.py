@@ -4,7 +4,8 @@ import pytest
 import trimesh
 
 from en17037cli.errors import InputError
-from en17037cli.loaders import read_model, read_obj
+from en17037cli.io.obj import read_obj
+from en17037cli.io import read_model
 from en17037cli.samples import BoxRoom, box_room_polygons, box_room_project
 from en17037cli.project import load_project
 from en17037cli.scene import build_scene, layer_counts, LANDSCAPE
@@ -39,7 +40,7 @@ def test_twelve_face_obj(tmp_path):
     p.write_text(CUBE_OBJ)
     m = read_obj(p)
     assert m.triangles.shape == (12, 3)
-    assert m.names == [("cube", "", "")]
+    assert [dict(p.attrs) for p in m.parts] == [{"object": "cube"}]
 
 
 def test_concave_ngon_obj_loads_with_its_true_area(tmp_path):
@@ -48,7 +49,7 @@ def test_concave_ngon_obj_loads_with_its_true_area(tmp_path):
     m = read_obj(p)
     _, areas = triangle_normals(m.vertices[m.triangles])
     assert abs(areas.sum() - 3.0) < 1e-12
-    assert m.names == [("", "floor plate", "concrete")]
+    assert [dict(p.attrs) for p in m.parts] == [{"group": "floor plate", "material": "concrete"}]
 
 
 def test_negative_indices_and_corrupt_lines(tmp_path):

@@ -1,39 +1,22 @@
-"""Model file readers: each returns a :class:`Mesh` of float64 triangles with face names.
+"""Wavefront OBJ reader: n-gons, concave ones included, ear-clipped in their best-fit plane.
 
-OBJ is read here (n-gons, concave ones included, are ear-clipped in their best-fit plane:
-trimesh's reader fans them, which adds area outside a concave polygon). glTF/GLB, PLY, STL
-and OFF go through trimesh. Readers know nothing of layers, units or rooms.
+trimesh's OBJ reader fans n-gons, which adds area outside a concave polygon (the seed scene's
+buildings would load 19 % too large), so OBJ is read here.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangulate_polygons
+from en17037cli.io import ReadOptions, register
+from en17037cli.io.mesh import Mesh, Part
 
 
-@dataclass
-class Mesh:
-    """Triangles of one model file in the file's own units and axes.
-
-    vertices : (n, 3) float64
-    triangles : (m, 3) int
-    name_id : (m,) int, index into ``names``
-    names : list of tuples of strings (object, group and material names of a face)
-    warnings : list of str, what was dropped or could not be read as it is
-    """
-
-    vertices: np.ndarray
-    triangles: np.ndarray
-    name_id: np.ndarray
-    names: list
-    warnings: list
-
-
-def read_obj(path: Path) -> Mesh:
+@register(".obj")
+def read_obj(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read a Wavefront OBJ file: ``v``, ``f`` (any ``v/vt/vn`` form, negative indices),
     ``o``, ``g`` and ``usemtl`` for names. Other statements are ignored."""
     vertices: list = []
@@ -95,10 +78,8 @@ def read_obj(path: Path) -> Mesh:
     tris, tri_names, n_failed = _triangulate_faces(verts, faces, face_names)
     if n_failed:
         warnings.append(f"{path.name}: {n_failed} polygons could not be fully triangulated (self-intersecting or degenerate); their remaining area was dropped")
-    name_list = [None] * len(names)
-    for key, i in names.items():
-        name_list[i] = key
-    return Mesh(verts, tris, tri_names, name_list, warnings)
+    parts = [Part({"object": o, "group": g, "material": m}) for (o, g, m) in names]  # dicts keep insertion order
+    return Mesh(verts, tris, tri_names, parts, warnings)
 
 
 def _triangulate_faces(verts: np.ndarray, faces: list, face_names: list):
@@ -124,46 +105,3 @@ def _triangulate_faces(verts: np.ndarray, faces: list, face_names: list):
     if not out_tris:
         return np.zeros((0, 3), dtype=int), np.zeros(0, dtype=int), n_failed
     return np.concatenate(out_tris), np.concatenate(out_names), n_failed
-
-
-def read_with_trimesh(path: Path) -> Mesh:
-    """Read glTF/GLB, PLY, STL or OFF through trimesh; node and geometry names become face names."""
-    import trimesh
-
-    try:
-        loaded = trimesh.load(str(path), force="scene", process=False)
-    except Exception as exc:  # trimesh raises many types for corrupt files
-        raise InputError(f"{path}: cannot read model file ({type(exc).__name__}: {exc}); re-export it") from None
-    verts, tris, ids, names = [], [], [], []
-    offset = 0
-    for node in sorted(loaded.graph.nodes_geometry):
-        transform, geom_name = loaded.graph[node]
-        geom = loaded.geometry[geom_name]
-        if not hasattr(geom, "faces") or len(geom.faces) == 0:
-            continue
-        v = np.asarray(geom.vertices, dtype=np.float64)
-        v = v @ transform[:3, :3].T + transform[:3, 3]
-        material = getattr(getattr(geom.visual, "material", None), "name", None) or ""
-        names.append((str(node), str(geom_name), str(material)))
-        verts.append(v)
-        tris.append(np.asarray(geom.faces, dtype=int) + offset)
-        ids.append(np.full(len(geom.faces), len(names) - 1))
-        offset += len(v)
-    if not tris:
-        raise InputError(f"{path}: no triangles found in the model file")
-    return Mesh(np.concatenate(verts), np.concatenate(tris), np.concatenate(ids), names, [])
-
-
-READERS = {".obj": read_obj, ".glb": read_with_trimesh, ".gltf": read_with_trimesh,
-           ".ply": read_with_trimesh, ".stl": read_with_trimesh, ".off": read_with_trimesh}
-
-#: Formats whose specification fixes units and axes (glTF 2.0: metres, +Y up).
-FORMAT_DEFAULTS = {".glb": {"units": "m", "up_axis": "y"}, ".gltf": {"units": "m", "up_axis": "y"}}
-
-
-def read_model(path: Path) -> Mesh:
-    """Read a model file with the reader registered for its extension."""
-    reader = READERS.get(path.suffix.lower())
-    if reader is None:
-        raise InputError(f"{path}: unsupported model format '{path.suffix}'; use one of {', '.join(sorted(READERS))}")
-    return reader(path)

@@ -1,0 +1,65 @@
+"""Model readers, registered by file name ending; each returns a :class:`~en17037cli.io.mesh.Mesh`.
+
+A reader is ``read(path: Path, options: ReadOptions) -> Mesh``. It parses one format and
+describes what it finds (parts with attributes, the site, spaces); it applies no layer rules,
+no units of the project and no transform (the scene does). Bad files raise
+:class:`~en17037cli.errors.InputError` with one line naming the file and what to do.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from en17037cli.errors import InputError
+from en17037cli.io.mesh import Mesh, Part, Site, Space  # noqa: F401 - the package's public types
+
+
+@dataclass(frozen=True)
+class ReadOptions:
+    """What a project file may ask of a reader (readers ignore what does not apply to them).
+
+    lod : CityJSON level of detail, "highest" or e.g. "2.2"
+    exclude : object ids (CityJSON ids, IFC GlobalIds) to leave out
+    near : ((x, y), radius_m) in the file's own coordinates: objects entirely farther away may be
+        left out before triangulation, or None
+    """
+
+    lod: str = "highest"
+    exclude: tuple[str, ...] = ()
+    near: tuple[tuple[float, float], float] | None = None
+
+
+Reader = Callable[[Path, ReadOptions], Mesh]
+
+#: file name ending (lower case, with the dot) -> reader; longer endings win (".city.json" over ".json")
+READERS: dict[str, Reader] = {}
+
+
+def register(*endings: str):
+    """Decorator registering a reader for file names ending in any of ``endings``."""
+    def deco(fn: Reader) -> Reader:
+        for e in endings:
+            READERS[e.lower()] = fn
+        return fn
+    return deco
+
+
+def reader_for(path: Path) -> Reader:
+    """The reader registered for ``path``'s longest matching ending."""
+    _load_builtin_readers()
+    name = path.name.lower()
+    for ending in sorted(READERS, key=len, reverse=True):
+        if name.endswith(ending):
+            return READERS[ending]
+    raise InputError(f"{path}: unsupported model format '{path.suffix}'; use one of {', '.join(sorted(READERS))}")
+
+
+def read_model(path: Path, options: ReadOptions | None = None) -> Mesh:
+    """Read a model file with the reader registered for its name."""
+    return reader_for(Path(path))(Path(path), options or ReadOptions())
+
+
+def _load_builtin_readers() -> None:
+    """Import the reader modules (they register themselves); heavy libraries load only when used."""
+    from en17037cli.io import obj, trimesh_formats  # noqa: F401

@@ -1,0 +1,143 @@
+"""What every model reader returns: triangles with per-face parts, and what the format knows of the building.
+
+A :class:`Mesh` is one model file's geometry: float64 vertices, triangles, and for each triangle
+the :class:`Part` it belongs to. A part is the unit that layer rules match: an OBJ object/group/
+material combination, a glTF node, an IFC product's geometry of one style, a CityJSON object's
+semantic surface. Readers know nothing of layers rules, rooms or the standard; they describe.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Mapping
+
+import numpy as np
+
+#: Attribute keys a part may carry, and what each means. Layer rules match them by name
+#: (``{class: "IfcWindow", layer: window}``); ``match`` globs test every value.
+PART_KEYS = {
+    "object": "OBJ object (o), glTF node",
+    "group": "OBJ group (g), glTF geometry",
+    "material": "OBJ material (usemtl), glTF/IFC material or surface style name",
+    "file": "the model file's stem (set by the scene, not the reader)",
+    "name": "IFC product Name",
+    "class": "IFC entity (IfcWindow) or CityJSON CityObject type (Building)",
+    "id": "IFC GlobalId or CityJSON object id",
+    "type": "IFC type object name (IfcWindowType Name), or ObjectType",
+    "storey": "IFC building storey Name",
+    "surface": "semantic surface: CityJSON WallSurface/RoofSurface/GroundSurface...; IFC 'glazing' or 'frame'",
+    "parent": "CityJSON parent object type (a BuildingPart's Building); IFC aggregate's class",
+}
+
+#: Layers a reader may propose for a part (the project's rules decide; see scene/layers.py).
+LAYER_NAMES = ("window", "interior", "ground", "landscape", "ignore")
+
+
+@dataclass(frozen=True)
+class Part:
+    """A named piece of a model file.
+
+    attrs : mapping of :data:`PART_KEYS` (and ``attr.<key>`` for free attributes, e.g. a
+        CityJSON attribute ``attr.roofType``) to strings; missing keys are absent, not "".
+    layer : the format's default layer for this part (IFC class table, CityJSON type table),
+        or None when only the project's rules decide (OBJ, glTF, PLY...).
+    obstructs_sun : the format's default (False for CityJSON PlantCover given as solids, say).
+    window : faces of parts sharing this key form one window (an IfcWindow's GlobalId: its
+        panes together); None lets the scene group glazing by edge-connected coplanar faces.
+    """
+
+    attrs: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
+    layer: str | None = None
+    obstructs_sun: bool = True
+    window: str | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "attrs", MappingProxyType({k: str(v) for k, v in dict(self.attrs).items() if v not in (None, "")}))
+        if self.layer is not None and self.layer not in LAYER_NAMES:
+            raise ValueError(f"Part.layer: expected one of {LAYER_NAMES}, got {self.layer!r}")
+
+    @property
+    def label(self) -> str:
+        """Display name: the first of name, object, group, material, id, class that is set ('' if none)."""
+        for key in ("name", "object", "group", "material", "id", "class"):
+            if key in self.attrs:
+                return self.attrs[key]
+        return ""
+
+
+@dataclass(frozen=True)
+class Space:
+    """A room as the model file defines it (an IfcSpace), in the mesh's frame.
+
+    footprint : (k, 2) float [m], outer ring of the space's floor outline (x, y), counterclockwise
+    floor_z, top_z : float [m], bottom and top of the space
+    windows : GlobalIds (``Part.window`` keys) of the windows that bound it by the file's own
+        space boundaries (IfcRelSpaceBoundary); empty when the file has none
+    zones : names of the zones (IfcZone, IfcSpatialZone) that group it
+    """
+
+    id: str
+    name: str
+    long_name: str
+    storey: str
+    footprint: np.ndarray
+    floor_z: float
+    top_z: float
+    windows: tuple[str, ...] = ()
+    zones: tuple[str, ...] = ()
+    holes: tuple[np.ndarray, ...] = ()
+
+
+@dataclass(frozen=True)
+class Site:
+    """What a model file says about where it stands. Every field is optional (None: not in the file).
+
+    latitude, longitude : float [deg], north and east positive (IfcSite RefLatitude/RefLongitude)
+    elevation_m : float [m] (IfcSite RefElevation)
+    true_north_deg : float [deg], azimuth of true north clockwise from the mesh's +Y
+        (from the model context's TrueNorth)
+    crs : str, e.g. "EPSG:7415", the coordinate reference system of the vertices
+    source : str, one line saying where the values came from (for the report)
+    """
+
+    latitude: float | None = None
+    longitude: float | None = None
+    elevation_m: float | None = None
+    true_north_deg: float | None = None
+    crs: str | None = None
+    source: str = ""
+
+
+@dataclass
+class Mesh:
+    """Triangles of one model file.
+
+    vertices : (n, 3) float64, in the file's units and axes unless ``units`` / ``up_axis`` say
+        the reader already fixed them (IFC and CityJSON give metres, z up)
+    triangles : (m, 3) int64, indices into ``vertices``
+    part : (m,) int64, index into ``parts`` of each triangle
+    parts : list of :class:`Part`
+    warnings : what was dropped or could not be read as it is (counted, one line each)
+    notes : neutral facts worth a line in the report (LoD fallbacks, objects left out by distance)
+    units, up_axis : "m" / "z" when the format fixes them, None when the project decides
+    site : what the file says about its location, north and CRS, or None
+    spaces : rooms the file defines (IfcSpace), in the vertices' frame
+    """
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    part: np.ndarray
+    parts: list[Part]
+    warnings: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    units: str | None = None
+    up_axis: str | None = None
+    site: Site | None = None
+    spaces: list[Space] = field(default_factory=list)
+
+    def __post_init__(self):
+        self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
+        self.triangles = np.asarray(self.triangles, dtype=np.int64).reshape(-1, 3)
+        self.part = np.asarray(self.part, dtype=np.int64).reshape(-1)
+        if len(self.part) != len(self.triangles):
+            raise ValueError(f"Mesh.part: expected one part index per triangle ({len(self.triangles)}), got {len(self.part)}")
