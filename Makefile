@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test bench install samples clean
+.PHONY: demo test lint bench install samples clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -22,11 +22,15 @@ demo: $(STAMP) samples
 	  code=$$?; echo "reports: out/seed-office/ (report.md, report.json, view_points.csv, sunlight_days.csv), exit code $$code"; \
 	  test $$code -le 1
 
-test: $(STAMP)
+lint: $(STAMP)
+	$(VENV)/bin/ruff check en17037cli tests scripts benchmarks
+	$(VENV)/bin/mypy
+
+test: lint
 	$(PY) -m pytest
 
 bench: $(STAMP) samples
-	$(PY) -m en17037cli.bench --out bench.json
+	$(PY) benchmarks/bench.py --out bench.json
 
 clean:
-	rm -rf $(VENV) out .pytest_cache .hypothesis
+	rm -rf $(VENV) out .pytest_cache .hypothesis .mypy_cache .ruff_cache

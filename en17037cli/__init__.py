@@ -1,3 +1,44 @@
-"""en17037cli: check EN 17037 View out (clause 5.2) and Exposure to sunlight (clause 5.3)."""
+"""en17037cli: check EN 17037 View out (clause 5.2) and Exposure to sunlight (clause 5.3).
+
+The Python API, for scripts and notebooks (the CLI is a thin layer over it)::
+
+    import en17037cli
+    project = en17037cli.load_project("project.yaml", ["sunlight.date=03-21"])
+    result = en17037cli.run(project)             # typed results per room and criterion
+    report = en17037cli.write_reports(result, "out/")   # the report.json document, files written
+    result.status, report["rooms"][0]["view"]["level"]
+
+Heavy modules load on first call, so ``import en17037cli`` stays cheap.
+"""
+from __future__ import annotations
 
 __version__ = "0.1.0"
+
+
+def load_project(path, overrides=()):
+    """Read, validate and resolve a project file into typed settings
+    (:class:`~en17037cli.project.settings.Project`); ``overrides`` are ``key.path=value`` strings."""
+    from en17037cli.project import load_project as load
+
+    return load(path, list(overrides))
+
+
+def run(project, only: str | None = None, progress=None):
+    """Run the project's checks (:func:`en17037cli.pipeline.run`); return a
+    :class:`~en17037cli.pipeline.RunResult`."""
+    from en17037cli.pipeline import run as run_project
+
+    return run_project(project, only, progress)
+
+
+def write_reports(result, out_dir) -> dict:
+    """Build the report document of a :class:`~en17037cli.pipeline.RunResult` (or take a built one)
+    and write every report file into ``out_dir`` atomically; return the document."""
+    from pathlib import Path
+
+    from en17037cli.report.document import build_report
+    from en17037cli.report.write import write_reports as write
+
+    report = result if isinstance(result, dict) else build_report(result)
+    write(report, Path(out_dir))
+    return report

@@ -1,7 +1,7 @@
-"""``en17037``: the command-line interface, a thin layer over :mod:`en17037cli.check`.
+"""``en17037``: the command-line interface, click commands over the library only.
 
 Exit codes: 0 every required level met, 1 a required level missed, 2 bad input, 3 internal error.
-Domain errors become one-line messages here, in one place.
+Domain errors become one-line messages here, in one place (:func:`guard`).
 """
 from __future__ import annotations
 
@@ -45,7 +45,7 @@ def _fail(message: str, code: int):
     sys.exit(code)
 
 
-def _guard(fn):
+def guard(fn):
     """Run ``fn``; turn InputError into exit 2 and anything unexpected into exit 3."""
     from en17037cli.errors import InputError
 
@@ -53,54 +53,98 @@ def _guard(fn):
         return fn()
     except InputError as exc:
         _fail(str(exc), EXIT_INPUT)
-    except (SystemExit, KeyboardInterrupt):
-        raise
-    except click.exceptions.Exit:
+    except (SystemExit, KeyboardInterrupt, click.exceptions.Exit):
         raise
     except Exception as exc:  # noqa: BLE001 - the one place internal errors are reported
         tb = traceback.format_exc(limit=-3).strip().splitlines()
         _fail(f"internal error ({type(exc).__name__}: {exc}); please report it with this project. {tb[-1] if tb else ''}", EXIT_INTERNAL)
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class KindValue(click.ParamType):
+    """``KIND=NUMBER`` with KIND from a set, e.g. ``--target angle_deg=0.01``; ``kinds`` is a callable
+    so the set can live in a module imported only when the option is used."""
+
+    name = "KIND=VALUE"
+
+    def __init__(self, kinds):
+        self.kinds = kinds
+
+    def convert(self, value, param, ctx):
+        kinds = self.kinds()
+        kind, sep, number = str(value).partition("=")
+        if not sep or kind not in kinds:
+            self.fail(f"{value}: unknown kind '{kind}'; use one of {', '.join(kinds)}", param, ctx)
+        try:
+            return kind, float(number)
+        except ValueError:
+            self.fail(f"{value}: '{number}' is not a number", param, ctx)
+
+
+def project_argument(fn):
+    return click.argument("project_file", type=click.Path(dir_okay=False, path_type=Path))(fn)
+
+
+def set_option(fn):
+    return click.option("--set", "overrides", multiple=True, metavar="KEY.PATH=VALUE",
+                        help="Override a project key, e.g. --set sunlight.timestep_min=1 (repeatable).")(fn)
+
+
+class Group(click.Group):
+    """click's group, with usage errors as one line ``error: ...`` (exit 2) like every other input
+    error, and Ctrl-C as exit 130."""
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        try:
+            code = super().main(args, prog_name, complete_var, False, **extra)
+        except click.UsageError as exc:
+            where = f" (see {exc.ctx.command_path} --help)" if exc.ctx is not None else ""
+            _fail(exc.format_message() + where, EXIT_INPUT)
+        except click.ClickException as exc:
+            _fail(exc.format_message(), EXIT_INPUT)
+        except (click.exceptions.Abort, KeyboardInterrupt):
+            click.echo("error: interrupted", err=True)
+            sys.exit(130)
+        sys.exit(code or 0)
+
+
+@click.group(cls=Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="en17037")
 def cli():
     """Check EN 17037 View out (5.2) and Exposure to sunlight (5.3) on a 3D model."""
 
 
 @cli.command()
-@click.argument("project_file", type=click.Path(dir_okay=False, path_type=Path))
+@project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Report folder [default: en17037-report/ beside the project file].")
 @click.option("--only", type=click.Choice(["view", "sunlight"]), default=None, help="Run one check only.")
-@click.option("--set", "overrides", multiple=True, metavar="KEY.PATH=VALUE",
-              help="Override a project key, e.g. --set sunlight.timestep_min=1 (repeatable).")
+@set_option
 @click.option("--quiet", "-q", is_flag=True, help="No progress bars and no summary.")
 def check(project_file: Path, out_dir, only, overrides, quiet):
     """Run the checks of PROJECT_FILE and write the reports."""
-    from en17037cli import report as rep
-    from en17037cli.check import run_check
+    from en17037cli import pipeline
     from en17037cli.project import load_project
+    from en17037cli.report.document import build_report
+    from en17037cli.report.write import remove_reports, write_reports
 
     out = out_dir or project_file.parent / "en17037-report"
 
     def run():
-        rep.remove_reports(out) if out.is_dir() else None
+        remove_reports(out) if out.is_dir() else None
         project = load_project(project_file, list(overrides))
         bar, progress = _progress_factory(not quiet and sys.stderr.isatty())
         if bar is not None:
             with bar:
-                result = run_check(project, only, progress)
+                result = pipeline.run(project, only, progress)
         else:
-            result = run_check(project, only)
-        timer = result["timer"]
-        report = rep.build_report(project, result, timer.t)
-        timer.stage("report")
-        report["timings_s"] = {k: round(v, 3) for k, v in timer.t.items()} | {"total": round(sum(timer.t.values()), 3)}
-        rep.write_reports(report, out)
+            result = pipeline.run(project, only)
+        report = build_report(result)
+        write_reports(report, out)
         return report
 
-    report = _guard(run)
+    report = guard(run)
     if not quiet:
         _summary(report, out)
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
@@ -124,20 +168,20 @@ def _summary(report: dict, out: Path):
 
 
 @cli.command()
-@click.argument("project_file", type=click.Path(dir_okay=False, path_type=Path))
-@click.option("--set", "overrides", multiple=True, metavar="KEY.PATH=VALUE", help="Override a project key.")
+@project_argument
+@set_option
 def validate(project_file: Path, overrides):
     """Check PROJECT_FILE and its geometry; print faces per layer and each room's windows."""
     from en17037cli.project import load_project
-    from en17037cli.scene import build_scene, layer_counts
+    from en17037cli.scene import build_scene
 
     def run():
         project = load_project(project_file, list(overrides))
         return project, build_scene(project)
 
-    project, scene = _guard(run)
+    project, scene = guard(run)
     click.echo(f"{project_file}: valid")
-    click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in layer_counts(scene).items()))
+    click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in scene.layer_counts().items()))
     for room in scene.rooms:
         click.echo(f"room '{room.name}': floor {room.floor.area:.2f} m² ({room.floor_source}), {len(room.windows)} window(s)")
         for w in room.windows:
@@ -152,24 +196,31 @@ def study():
     """Studies of the numerical settings (not checks)."""
 
 
+def _target_kinds():
+    from en17037cli.studies.convergence import TARGETS
+
+    return tuple(TARGETS)
+
+
 @study.command()
-@click.argument("project_file", type=click.Path(dir_okay=False, path_type=Path))
+@project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), required=True,
               help="Folder for convergence.csv and convergence.png.")
 @click.option("--ladder", "ladders", multiple=True, metavar="KNOB",
               help="Run only this ladder, e.g. view.angular_resolution_deg (repeatable) [default: all].")
-@click.option("--target", "targets", multiple=True, metavar="KIND=VALUE",
+@click.option("--target", "targets", multiple=True,
+              type=KindValue(_target_kinds),
               help="Error target: angle_deg, solid_angle_sr, distance_m, hours_s, share_pp (repeatable).")
 @click.option("--points", "max_points", type=click.IntRange(1), default=None,
               help="Use at most this many viewpoints per room and eye height (spread evenly).")
-@click.option("--set", "overrides", multiple=True, metavar="KEY.PATH=VALUE", help="Override a project key.")
+@set_option
 def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points, overrides):
     """Error against run time for ladders of resolutions; cheapest setting within the targets."""
     from rich.console import Console
     from rich.table import Table
 
-    from en17037cli import study as st
     from en17037cli.errors import InputError
+    from en17037cli.studies import convergence as st
 
     def run():
         chosen = st.LADDERS
@@ -179,19 +230,10 @@ def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points,
             if bad:
                 raise InputError(f"--ladder {bad[0]}: unknown; use one of {', '.join(known)}")
             chosen = tuple(known[k] for k in ladders)
-        tg = {}
-        for item in targets:
-            kind, _, value = item.partition("=")
-            if kind not in st.TARGETS:
-                raise InputError(f"--target {item}: unknown kind '{kind}'; use one of {', '.join(st.TARGETS)}")
-            try:
-                tg[kind] = float(value)
-            except ValueError:
-                raise InputError(f"--target {item}: '{value}' is not a number") from None
-        return st.convergence(project_file, out_dir, chosen, tg, overrides, max_points,
+        return st.convergence(project_file, out_dir, chosen, dict(targets), overrides, max_points,
                               log=lambda m: click.echo(m, err=True))
 
-    res = _guard(run)
+    res = guard(run)
     console = Console(width=max(Console().width, 120))
     table = Table(title=f"Convergence of {project_file}")
     for col in ("knob", "value", "quantity", "max error", "estimate", "over est.", "target", "ok", "time s", "rays"):
@@ -213,7 +255,7 @@ def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points,
 @click.argument("which", type=click.Choice(["project", "report"]))
 def schema(which):
     """Print the JSON Schema of the project file or of report.json."""
-    from en17037cli.project import load_schema
+    from en17037cli.schemas import load_schema
 
     click.echo(json.dumps(load_schema(which), indent=2))
 

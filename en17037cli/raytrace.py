@@ -1,95 +1,96 @@
-"""Ray engine: Embree scenes per face group, queried in float32 chunks on all cores.
+"""Ray engine: first-hit and occlusion queries against named groups of faces, in float32 chunks on all cores.
 
-Embree has no ray masks and no tnear in embreex, so transparency is handled with one scene per
-group of faces: ``opaque`` (every face that is not glazing), ``interior``, ``landscape``,
-``sun`` (every opaque face that blocks the sun; the ``opaque`` scene itself when no face is
-left out) and one small scene per room holding that room's windows. Each is built on first use
-and shared by every check and room of the run. Geometry arrives already shifted to a local origin
-in float64 (:mod:`en17037cli.scene`), so the float32 cast loses nothing that matters near the
-rooms.
+Embree has no ray masks and no tnear in embreex, so transparency is handled by the caller with
+one group (one Embree scene) per set of faces it needs: the pipeline registers ``opaque``,
+``interior``, ``landscape``, ``sun`` and one group per room's windows (see
+:meth:`~en17037cli.scene.model.Scene.face_groups`). Each group is built on first use (or by
+:meth:`RayEngine.prepare`) and shared by every check and room of a run; groups with identical
+faces share one scene. The engine knows nothing of layers or rooms.
+
+Geometry arrives already shifted to a local origin in float64 (:mod:`en17037cli.scene`), so the
+float32 cast loses nothing that matters near the rooms (see trimesh/ray/ray_pyembree.py).
 """
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from en17037cli.geometry import check_shape
-from en17037cli.scene import GROUND, INTERIOR, LANDSCAPE, WINDOW
-
-#: A point lying on a glazing plane is moved this far into the room before rays start from it [m].
-GLAZING_OFFSET_M = 1e-3
 
 #: Rays per embreex call; large enough to amortise the call, small enough to share two cores.
 CHUNK = 1 << 15
 
-#: Classes of a direction seen from inside a room.
-BLOCKED, SKY, LANDSCAPE_HIT, GROUND_HIT = 0, 1, 2, 3
-
-GROUPS = {
-    "opaque": lambda s: s.layer != WINDOW,
-    "interior": lambda s: s.layer == INTERIOR,
-    "landscape": lambda s: s.layer == LANDSCAPE,
-    "sun": lambda s: (s.layer != WINDOW) & s.obstructs_sun,
-}
-
-
-def room_window_group(room) -> str:
-    """Name of the engine group holding the window faces of ``room`` (one per room, set up by :class:`RayEngine`)."""
-    return f"windows of room {room.index}"
+#: Smallest distance a ray restarts beyond a surface it hit [m] ...
+MIN_RESTART_OFFSET_M = 1e-4
+#: ... and, far from the local origin, this many float32 units of the point's largest coordinate.
+RESTART_OFFSET_ULPS = 16
 
 
 class RayEngine:
-    """First-hit and occlusion queries against groups of faces of a :class:`~en17037cli.scene.Scene`.
+    """First-hit and occlusion queries against named groups of faces.
 
     Parameters
     ----------
-    scene : Scene
+    vertices : (n, 3) float [m], local frame
+    triangles : (m, 3) int
+    groups : mapping name -> (m,) bool mask or face ids (or a callable returning either)
     threads : int, optional
         Worker threads (embreex's loop runs without the GIL); default: the machine's cores.
+
+    Use as a context manager, or call :meth:`close`, to stop the worker threads.
     """
 
-    def __init__(self, scene, threads: int | None = None):
-        self.scene = scene
+    def __init__(self, vertices: np.ndarray, triangles: np.ndarray, groups: dict | None = None, threads: int | None = None):
+        self.vertices = vertices
+        self.triangles = triangles
         self.threads = max(1, threads or os.cpu_count() or 1)
-        self._faces = {name: None for name in GROUPS}
-        for room in scene.rooms:
-            self._faces[room_window_group(room)] = np.concatenate([w.face_ids for w in room.windows])
+        self._spec: dict = {}
+        self._faces: dict[str, np.ndarray] = {}
         self._groups: dict = {}
-        #: class of a ray whose first opaque face beyond the glazing is each face (see outside_class)
-        self.face_class = np.select([scene.layer == LANDSCAPE, scene.layer == GROUND], [LANDSCAPE_HIT, GROUND_HIT],
-                                    BLOCKED).astype(np.int8)
+        for name, faces in (groups or {}).items():
+            self.add_group(name, faces)
         self.rays_traced = 0
-        self.build_s = 0.0
         self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
 
-    def close(self):
+    def __enter__(self) -> RayEngine:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
         if self._pool is not None:
             self._pool.shutdown()
             self._pool = None
+
+    def add_group(self, name: str, faces: np.ndarray | Callable[[], np.ndarray]) -> None:
+        """Register group ``name``: a boolean face mask, face ids, or a callable giving either."""
+        self._spec[name] = faces
+        self._faces.pop(name, None)
+        self._groups.pop(name, None)
+
+    def faces(self, name: str) -> np.ndarray:
+        """Face ids of group ``name`` (sorted)."""
+        if name not in self._faces:
+            f = self._spec[name]
+            f = np.asarray(f() if callable(f) else f)
+            self._faces[name] = np.flatnonzero(f) if f.dtype == bool else f.astype(np.int64)
+        return self._faces[name]
 
     def prepare(self, names) -> None:
         """Build the acceleration structures of ``names`` now (otherwise on first use)."""
         for name in names:
             self._group(name)
 
-    def faces(self, name: str) -> np.ndarray:
-        """Face ids of group ``name`` (sorted)."""
-        f = self._faces[name]
-        if f is None:
-            f = self._faces[name] = np.flatnonzero(GROUPS[name](self.scene))
-        return f
-
     def _group(self, name: str):
         """(embree scene or None, face ids of the group), built on first use; identical groups share one scene."""
         if name not in self._groups:
-            import time
-
             from embreex import rtcore_scene as rtcs
             from embreex.mesh_construction import TriangleMesh
 
-            t = time.perf_counter()
             faces = self.faces(name)
             twin = next((g for g in self._groups.values() if len(g[1]) == len(faces) and np.array_equal(g[1], faces)), None)
             if twin is not None:
@@ -98,11 +99,25 @@ class RayEngine:
                 self._groups[name] = (None, faces)
             else:
                 es = rtcs.EmbreeScene()
-                TriangleMesh(es, self.scene.vertices[self.scene.triangles[faces]].astype(np.float32))
+                TriangleMesh(es, self.vertices[self.triangles[faces]].astype(np.float32))
                 es.run(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))  # commit (builds the BVH) now
                 self._groups[name] = (es, faces)
-            self.build_s += time.perf_counter() - t
         return self._groups[name]
+
+    def embree_scene(self, name: str):
+        """(embreex scene or None, face ids) of group ``name``, built if need be: for benchmarks that
+        time raw embreex against this engine on the same scene."""
+        return self._group(name)
+
+    def restart_offset(self, points: np.ndarray) -> np.ndarray:
+        """Distance [m] to move a ray past a surface it hit at ``points`` (n, 3) [m] before tracing on.
+
+        At least :data:`MIN_RESTART_OFFSET_M`; far from the local origin, :data:`RESTART_OFFSET_ULPS`
+        float32 units of the point's largest coordinate, so the offset scales with where the
+        float32 ray tracer's round-off is.
+        """
+        scale = np.abs(np.asarray(points, dtype=float)).max(axis=-1)
+        return np.maximum(MIN_RESTART_OFFSET_M, RESTART_OFFSET_ULPS * np.finfo(np.float32).eps * scale)
 
     def _map(self, fn, n: int):
         bounds = [(a, min(a + CHUNK, n)) for a in range(0, n, CHUNK)]
@@ -120,7 +135,7 @@ class RayEngine:
 
         Returns
         -------
-        face : (n,) int, index into ``scene.triangles`` (-1 where nothing is hit)
+        face : (n,) int, index into the engine's triangles (-1 where nothing is hit)
         distance : (n,) float64 [m] along the ray (+inf where nothing is hit)
         """
         origins = check_shape("origins", origins, (None, 3))
@@ -168,68 +183,3 @@ class RayEngine:
         self._map(run, n)
         self.rays_traced += n
         return out
-
-    def layer_of(self, face: np.ndarray) -> np.ndarray:
-        """Layer code of each face index (-1 where face is -1)."""
-        return np.where(face >= 0, self.scene.layer[np.maximum(face, 0)], -1)
-
-
-def outside_class(engine: RayEngine, face: np.ndarray, directions: np.ndarray) -> np.ndarray:
-    """Class of rays whose first opaque face beyond the glazing is ``face`` (-1: none).
-
-    ``interior`` beyond the glazing (outer reveals, frames, the building's own walls) blocks;
-    ``landscape`` and ``ground`` are seen; a ray that meets nothing is sky when it points upwards
-    and ground when it leaves the model below the horizon.
-
-    Returns
-    -------
-    (n,) int8, BLOCKED / SKY / LANDSCAPE_HIT / GROUND_HIT
-    """
-    cls = engine.face_class[np.maximum(face, 0)]
-    none = face < 0
-    cls[none] = np.where(directions[none, 2] < 0, GROUND_HIT, SKY)
-    return cls
-
-
-def trace_through_windows(engine: RayEngine, window_group: str, origins, directions):
-    """Where each ray from inside a room goes: through which window and onto which layer.
-
-    A ray *leaves through a window* when it reaches a face of ``window_group`` (the room's
-    windows) before any opaque face, and the first opaque face beyond the glazing is not
-    ``interior`` (see :func:`outside_class`). Two queries per ray: the room's windows (a scene
-    of a few triangles) and the opaque faces.
-
-    Parameters
-    ----------
-    window_group : str, e.g. :func:`room_window_group` (room)
-    origins : (n, 3) float [m]; directions : (n, 3) unit
-
-    Returns
-    -------
-    cls : (n,) int8, BLOCKED / SKY / LANDSCAPE_HIT / GROUND_HIT
-    window_face : (n,) int, the window face crossed (-1 if blocked)
-    outside_face : (n,) int, the first opaque face beyond the glazing (-1 if none or blocked)
-    outside_distance : (n,) float [m] along the ray to that face (+inf if none)
-    glass_distance : (n,) float [m] along the ray to the window face (+inf if blocked)
-    """
-    n = len(origins)
-    cls = np.zeros(n, dtype=np.int8)
-    wface = np.full(n, -1, dtype=np.int64)
-    oface = np.full(n, -1, dtype=np.int64)
-    odist = np.full(n, np.inf)
-    gdist = np.full(n, np.inf)
-    f_g, t_g = engine.first_hit(window_group, origins, directions)
-    cand = np.flatnonzero(f_g >= 0)
-    if len(cand) == 0:
-        return cls, wface, oface, odist, gdist
-    f_o, t_o = engine.first_hit("opaque", origins[cand], directions[cand])
-    ok = t_g[cand] < t_o
-    cand, f_o, t_o = cand[ok], f_o[ok], t_o[ok]
-    c = outside_class(engine, f_o, directions[cand])
-    cls[cand] = c
-    keep = cand[c != BLOCKED]
-    wface[keep] = f_g[keep]
-    oface[keep] = f_o[c != BLOCKED]
-    odist[keep] = t_o[c != BLOCKED]
-    gdist[keep] = t_g[keep]
-    return cls, wface, oface, odist, gdist

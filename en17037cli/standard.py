@@ -1,14 +1,49 @@
 """The rules of EN 17037:2018+A1:2021 that this tool checks, in one place.
 
-Every threshold of the standard lives in :data:`THRESHOLDS` (Annex A, Tables A.5 and A.6);
-a project may override the values (a national annex) through its ``thresholds`` key.
+Every threshold of the standard lives in :data:`THRESHOLDS` (Annex A, Tables A.5 and A.6); a
+project may override the values (a national annex) through its ``thresholds`` key. Every way of
+turning values into levels, and levels into a verdict, is a function here: the engines compute
+quantities, this module judges them.
 """
 from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 #: Levels in increasing order. ``none`` means not even ``minimum`` is reached.
 LEVELS: tuple[str, ...] = ("none", "minimum", "medium", "high")
+
+
+@dataclass(frozen=True)
+class LevelThresholds:
+    """The values a quantity must reach (``>=``) for each level, in the quantity's unit."""
+
+    minimum: float
+    medium: float
+    high: float
+
+    def values(self) -> tuple[float, float, float]:
+        """(minimum, medium, high)."""
+        return (self.minimum, self.medium, self.high)
+
+    def as_dict(self) -> dict[str, float]:
+        return {"minimum": self.minimum, "medium": self.medium, "high": self.high}
+
+
+@dataclass(frozen=True)
+class Thresholds:
+    """The thresholds of every criterion (EN 17037 Annex A, or a national annex's values)."""
+
+    horizontal_sight_angle_deg: LevelThresholds
+    outside_distance_m: LevelThresholds
+    sunlight_hours: LevelThresholds
+
+    @classmethod
+    def from_dict(cls, d: dict) -> Thresholds:
+        return cls(**{k: LevelThresholds(**d[k]) for k in THRESHOLDS})
+
 
 #: EN 17037:2018+A1:2021 Annex A. Table A.5 (view out) and Table A.6 (exposure to sunlight).
 #: Values compare with ``>=``.
@@ -38,6 +73,9 @@ SUN_POINT_MIN_ABOVE_SILL_M = 0.3
 #: Clause 5.3: the assessed date lies between 1 February and 21 March (MM-DD).
 SUN_PERIOD = ("02-01", "03-21")
 
+#: The view criteria of Table A.5, each judged over the viewpoints (clause 5.2).
+VIEW_CRITERIA = ("horizontal_sight_angle", "outside_distance", "layers")
+
 
 def level_index(level: str) -> int:
     """Position of ``level`` in :data:`LEVELS` (0 for ``none``)."""
@@ -49,15 +87,15 @@ def level_name(index) -> str:
     return LEVELS[int(index)]
 
 
-def level_from_value(values, thresholds: dict[str, float]) -> np.ndarray:
+def level_from_value(values, thresholds: LevelThresholds) -> np.ndarray:
     """Level index (0..3) reached by each value, comparing with ``>=``.
 
     Parameters
     ----------
     values : (n,) float
         Quantity in the thresholds' unit; ``+inf`` reaches every level, NaN none.
-    thresholds : dict
-        ``{"minimum": a, "medium": b, "high": c}`` in the same unit.
+    thresholds : LevelThresholds
+        In the same unit.
 
     Returns
     -------
@@ -66,8 +104,8 @@ def level_from_value(values, thresholds: dict[str, float]) -> np.ndarray:
     v = np.asarray(values, dtype=float)
     with np.errstate(invalid="ignore"):
         return (
-            (v >= thresholds["minimum"]).astype(int)
-            * (1 + (v >= thresholds["medium"]).astype(int) * (1 + (v >= thresholds["high"]).astype(int)))
+            (v >= thresholds.minimum).astype(int)
+            * (1 + (v >= thresholds.medium).astype(int) * (1 + (v >= thresholds.high).astype(int)))
         )
 
 
@@ -85,7 +123,16 @@ def level_from_layers(sky, landscape, ground) -> np.ndarray:
     )
 
 
-def near_threshold(values, errors, thresholds) -> np.ndarray:
+def layer_visible(solid_angle_sr, threshold_sr: float) -> np.ndarray:
+    """Whether a view layer counts as visible: its solid angle exceeds the threshold [sr].
+
+    EN 17037 does not say how much of a layer must be seen; the threshold is a project parameter
+    (``view.layer_threshold_sr``, 0 by default: any part of it, as in Brembilla et al. 2021).
+    """
+    return np.asarray(solid_angle_sr, dtype=float) > threshold_sr
+
+
+def near_threshold(values, errors, thresholds: LevelThresholds | Sequence[float]) -> np.ndarray:
     """True where a value lies within its (positive) error estimate of a threshold: the level could flip.
 
     A value with zero error is exact and never near, even when it equals a threshold.
@@ -94,14 +141,13 @@ def near_threshold(values, errors, thresholds) -> np.ndarray:
     ----------
     values, errors : (n,) float
         Value and its error estimate, in the thresholds' unit.
-    thresholds : dict or sequence of float
-        ``{"minimum": a, "medium": b, "high": c}``, or the threshold values themselves (e.g. the
-        one solid angle above which a view layer counts).
+    thresholds : LevelThresholds or sequence of float
+        The level thresholds, or the threshold values themselves (e.g. the one solid angle above
+        which a view layer counts).
     """
     v = np.asarray(values, dtype=float)[..., None]
     e = np.asarray(errors, dtype=float)[..., None]
-    levels = [thresholds[k] for k in LEVELS[1:]] if isinstance(thresholds, dict) else list(thresholds)
-    t = np.array(levels, dtype=float)
+    t = np.array(thresholds.values() if isinstance(thresholds, LevelThresholds) else list(thresholds), dtype=float)
     with np.errstate(invalid="ignore"):
         return np.any(np.isfinite(v) & (e > 0) & (np.abs(v - t) <= e), axis=-1)
 
@@ -109,7 +155,13 @@ def near_threshold(values, errors, thresholds) -> np.ndarray:
 def room_level(point_levels, area_fraction: float) -> tuple[int, dict[str, float]]:
     """Room level: the highest level reached by at least ``area_fraction`` of the points.
 
-    Points count equally (the viewpoint grid is equal-area).
+    EN 17037 clause 5.2 judges view over the utilised area; the share of it that must reach a
+    level is a project parameter (``view.area_fraction``, 0.75 by default).
+
+    Parameters
+    ----------
+    point_levels : (n,) int
+    area_fraction : float in (0, 1]
 
     Returns
     -------
@@ -128,6 +180,37 @@ def room_level(point_levels, area_fraction: float) -> tuple[int, dict[str, float
     return level, share
 
 
+def point_view_level(*criterion_levels) -> np.ndarray:
+    """View level of each point: the lowest of its criteria's levels (clause 5.2, Table A.5)."""
+    out = np.asarray(criterion_levels[0])
+    for lv in criterion_levels[1:]:
+        out = np.minimum(out, lv)
+    return out
+
+
+def view_level(levels: Iterable[int]) -> int:
+    """The lowest of several levels (over the criteria of an eye height, or over the eye heights
+    of a room: EN 17037 clause 5.2 asks the view of seated and standing people); 0 if none."""
+    levels = list(levels)
+    return min(levels) if levels else 0
+
+
 def passes(level: str, required: str) -> bool:
     """Whether ``level`` meets ``required``."""
     return level_index(level) >= level_index(required)
+
+
+def status(level: str, required: str) -> str:
+    """``pass`` or ``fail`` of one criterion of one room."""
+    return "pass" if passes(level, required) else "fail"
+
+
+def sunlight_rooms_pass(room_passes: Sequence[bool], rule: str) -> bool:
+    """Whether the rooms meet the sunlight requirement together.
+
+    EN 17037 clause 5.3 asks sunlight of at least one habitable room of a dwelling (``any``);
+    ``all`` asks it of every room. An empty list passes (no room was assessed for sunlight).
+    """
+    if not room_passes:
+        return True
+    return all(room_passes) if rule == "all" else any(room_passes)

@@ -1,9 +1,17 @@
 """Shared fixtures: box-room scenes built in code (en17037cli.samples) whose answers are known."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
+from en17037cli.criteria.sunlight.assess import assess_room as assess_sunlight
+from en17037cli.criteria.view.assess import assess_points
+from en17037cli.criteria.view.assess import assess_room as assess_view
+from en17037cli.criteria.view.frames import room_geometry
+from en17037cli.criteria.view.rays import ViewRays
+from en17037cli.criteria.view.viewpoints import viewpoints
 from en17037cli.project import load_project
 from en17037cli.raytrace import RayEngine
 from en17037cli.samples import BoxRoom, box_room_project
@@ -16,20 +24,47 @@ class Built:
     def __init__(self, path, overrides=()):
         self.project = load_project(path, list(overrides))
         self.scene = build_scene(self.project)
-        self.engine = RayEngine(self.scene)
+        self.engine = RayEngine(self.scene.vertices, self.scene.triangles, self.scene.ray_groups())
+        self.view_rays = ViewRays(self.engine, self.scene)
         self.room = self.scene.rooms[0]
 
     @property
     def view_cfg(self):
-        return self.project.config["view"]
+        return self.project.view
 
     @property
     def sun_cfg(self):
-        return self.project.config["sunlight"]
+        return self.project.sunlight
 
     @property
     def thresholds(self):
-        return self.project.config["thresholds"]
+        return self.project.thresholds
+
+    def view_points(self, points_world, frame_depth_m: float | None = None):
+        """:class:`~en17037cli.criteria.view.results.ViewPoints` of world points (n, 3) [m]."""
+        depth = self.view_cfg.frame_depth_m if frame_depth_m is None else frame_depth_m
+        rg = room_geometry(self.scene, self.room, depth)
+        local = self.scene.to_local(np.asarray(points_world, dtype=float))
+        return assess_points(self.view_rays, rg, local, self.view_cfg, self.thresholds)
+
+    def _room_with(self, **spec_changes):
+        if not spec_changes:
+            return self.room
+        spec = dataclasses.replace(self.room.spec, **{k: np.asarray(v, dtype=float) for k, v in spec_changes.items()})
+        return dataclasses.replace(self.room, spec=spec)
+
+    def view_room(self, view_points=None):
+        """:class:`~en17037cli.criteria.view.results.ViewResult` of the room; ``view_points`` (n, 3) [m]
+        world replaces the grid."""
+        room = self._room_with(**({} if view_points is None else {"view_points": view_points}))
+        plan = viewpoints(self.scene, room, self.view_cfg)
+        return assess_view(self.view_rays, self.scene, room, self.view_cfg, self.thresholds, plan)
+
+    def sunlight(self, sun_points=None):
+        """:class:`~en17037cli.criteria.sunlight.results.SunlightResult` of the room; ``sun_points``
+        (k, 3) [m] world replaces the rule's points P."""
+        room = self._room_with(**({} if sun_points is None else {"sun_points": sun_points}))
+        return assess_sunlight(self.engine, self.scene, room, self.sun_cfg, self.project.location, self.thresholds)
 
 
 @pytest.fixture

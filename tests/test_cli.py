@@ -1,9 +1,8 @@
 """The en17037 command: exit codes, one-line errors, reports, determinism."""
 from __future__ import annotations
 
-import re
-
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -15,9 +14,9 @@ import yaml
 from click.testing import CliRunner
 
 from en17037cli.cli import cli
-from en17037cli.project import load_schema
-from en17037cli.report import REPORT_FILES
+from en17037cli.report.write import REPORT_FILES
 from en17037cli.samples import BoxRoom, box_room_project
+from en17037cli.schemas import load_schema
 
 ROOT = Path(__file__).resolve().parents[1]
 SEED = ROOT / "sample_projects" / "seed-office" / "project.yaml"

@@ -8,7 +8,6 @@ from __future__ import annotations
 import difflib
 
 import pytest
-
 from golden.scenes import BOXES, SAMPLES, pinned, run_reports
 
 

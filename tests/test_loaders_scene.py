@@ -4,12 +4,12 @@ import pytest
 import trimesh
 
 from en17037cli.errors import InputError
-from en17037cli.io.obj import read_obj
-from en17037cli.io import read_model
-from en17037cli.samples import BoxRoom, box_room_polygons, box_room_project
-from en17037cli.project import load_project
-from en17037cli.scene import build_scene, layer_counts, LANDSCAPE
 from en17037cli.geometry import triangle_normals
+from en17037cli.io import read_model
+from en17037cli.io.obj import read_obj
+from en17037cli.project import load_project
+from en17037cli.samples import BoxRoom, box_room_project
+from en17037cli.scene import LANDSCAPE, build_scene
 
 CUBE_OBJ = """o cube
 v 0 0 0
@@ -112,7 +112,7 @@ def test_units_and_y_up_are_converted(tmp_path):
 
 def test_windows_rooms_and_floor(tmp_path):
     s = _scene(tmp_path)
-    counts = layer_counts(s)
+    counts = s.layer_counts()
     assert counts["window"] == 2 and counts["landscape"] == 10
     room = s.rooms[0]
     assert [w.name for w in room.windows] == ["glazing"]
@@ -134,6 +134,6 @@ def test_paper_viewpoint_grids_load_as_given():
 
     root = Path(__file__).resolve().parents[1] / "sample_projects" / "seed-office"
     p = load_project(root / "project-paper-grid.yaml")
-    pts = np.array(p.view_points["office"])
+    pts = p.rooms[0].view_points
     assert pts.shape == (2800, 3)
     assert sorted(set(np.round(pts[:, 2] - 9.3, 3))) == [1.2, 1.7]

@@ -7,7 +7,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from en17037cli import sunlight, view
 from en17037cli.samples import BoxRoom
 
 PTS = np.array([[0.3, 2.0, 1.2], [-1.2, 4.5, 1.7]])
@@ -17,10 +16,7 @@ _reference = {}
 
 
 def _values(b):
-    rg = view.room_geometry(b.scene, b.room)
-    r = view.assess_points(b.engine, rg, b.scene.to_local(PTS + b.offset), b.view_cfg, b.thresholds)
-    s = sunlight.assess_room(b.engine, b.scene, b.room, b.sun_cfg, b.project.config["location"], b.thresholds)
-    return r, s
+    return b.view_points(PTS + b.offset, frame_depth_m=0.5), b.sunlight()
 
 
 def _check(build, offset):
@@ -31,13 +27,13 @@ def _check(build, offset):
         ref.offset = np.zeros(3)
         _reference["ref"] = _values(ref)
     (r0, s0), (r1, s1) = _reference["ref"], _values(b)
-    assert np.all(np.abs(r1["h_angle_deg"] - r0["h_angle_deg"]) <= 0.01)  # angles to 0.01 deg
-    assert np.all(np.abs(r1["distance"] - r0["distance"]) <= 1e-3)  # distances to 1 mm
+    assert np.all(np.abs(r1.sight.angle_deg - r0.sight.angle_deg) <= 0.01)  # angles to 0.01 deg
+    assert np.all(np.abs(r1.distance_m - r0.distance_m) <= 1e-3)  # distances to 1 mm
     for k in ("sky", "landscape", "ground"):
         # the same cells are traced; only float32 round-off of the local frame can move a
         # boundary cell, each well under the estimate
-        assert np.all(np.abs(r1[k] - r0[k]) <= np.maximum(r0["err_" + k] + r1["err_" + k], 1e-9)), k
-    assert np.all(np.abs(s1["hours"] - s0["hours"]) <= s0["error_h"] + s1["error_h"] + 1e-9)
+        assert np.all(np.abs(r1.solid.sr[k] - r0.solid.sr[k]) <= np.maximum(r0.solid.err_sr[k] + r1.solid.err_sr[k], 1e-9)), k
+    assert np.all(np.abs(s1.hours - s0.hours) <= s0.error_h + s1.error_h + 1e-9)
 
 
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -60,11 +56,11 @@ def _rotated(points, deg):
 
 
 def _compare(r0, s0, r1, s1):
-    assert np.all(np.abs(r1["h_angle_deg"] - r0["h_angle_deg"]) <= 0.01)
-    assert np.all(np.abs(r1["distance"] - r0["distance"]) <= 1e-3)
+    assert np.all(np.abs(r1.sight.angle_deg - r0.sight.angle_deg) <= 0.01)
+    assert np.all(np.abs(r1.distance_m - r0.distance_m) <= 1e-3)
     for k in ("sky", "landscape", "ground"):
-        assert np.all(np.abs(r1[k] - r0[k]) <= np.maximum(r0["err_" + k] + r1["err_" + k], 1e-9)), k
-    assert np.all(np.abs(s1["hours"] - s0["hours"]) <= s0["error_h"] + s1["error_h"] + 1e-9)
+        assert np.all(np.abs(r1.solid.sr[k] - r0.solid.sr[k]) <= np.maximum(r0.solid.err_sr[k] + r1.solid.err_sr[k], 1e-9)), k
+    assert np.all(np.abs(s1.hours - s0.hours) <= s0.error_h + s1.error_h + 1e-9)
 
 
 def _reference_values(build):
@@ -76,10 +72,7 @@ def _reference_values(build):
 
 
 def _values_at(b, pts):
-    rg = view.room_geometry(b.scene, b.room)
-    r = view.assess_points(b.engine, rg, b.scene.to_local(pts), b.view_cfg, b.thresholds)
-    s = sunlight.assess_room(b.engine, b.scene, b.room, b.sun_cfg, b.project.config["location"], b.thresholds)
-    return r, s
+    return b.view_points(pts, frame_depth_m=0.5), b.sunlight()
 
 
 @settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])

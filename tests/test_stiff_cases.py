@@ -12,21 +12,19 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
-from en17037cli import sunlight, view
 from en17037cli.cli import cli
+from en17037cli.criteria.sunlight import solar_position as sp
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangle_solid_angle
 from en17037cli.project import load_project
 from en17037cli.samples import BoxRoom, box_room_project, layer_solid_angles, sight_angle_deg
 from en17037cli.scene import build_scene
-from en17037cli.sun import position as sp
 
 ONE_DAY = {"date": "02-01", "period": {"start": "02-01", "end": "02-01"}}
 
 
 def run_points(b, pts):
-    rg = view.room_geometry(b.scene, b.room, b.view_cfg["frame_depth_m"])
-    return view.assess_points(b.engine, rg, b.scene.to_local(np.asarray(pts, float)), b.view_cfg, b.thresholds)
+    return b.view_points(pts)
 
 
 def exact_glazing(b, pts):
@@ -38,30 +36,29 @@ def exact_glazing(b, pts):
 def assert_layers(r, pts, box, i_max=None):
     for i, p in enumerate(pts[:i_max]):
         for key, exact in zip(("sky", "landscape", "ground"), layer_solid_angles(p, box)):
-            err = abs(r[key][i] - exact)
-            assert err <= r["err_" + key][i] + 1e-9, (i, key, r[key][i], exact, r["err_" + key][i])
+            err = abs(r.solid.sr[key][i] - exact)
+            assert err <= r.solid.err_sr[key][i] + 1e-9, (i, key, r.solid.sr[key][i], exact, r.solid.err_sr[key][i])
 
 
 # --- viewpoints on awkward lines and planes -------------------------------------------------
 
 def test_viewpoint_in_the_window_plane_is_moved_inside_and_sees_the_half_space(build):
     b = build(BoxRoom())
-    res = view.assess_room(b.engine, b.scene, b.room, b.view_cfg, b.thresholds,
-                           explicit=[[0.0, 0.0, 1.5], [1.5, 0.0, 1.5]])
-    assert any("lay on a glazing plane and were moved 1 mm" in n for n in res["notes"])
-    v = res["eye_heights"][0]["values"]
-    pts = res["eye_heights"][0]["points_local"] + b.scene.origin
+    res = b.view_room(view_points=[[0.0, 0.0, 1.5], [1.5, 0.0, 1.5]])
+    assert any("lay on a glazing plane and were moved 1 mm" in n for n in res.notes)
+    v = res.eye_heights[0].values
+    pts = res.eye_heights[0].points_local + b.scene.origin
     assert np.allclose(pts[:, 1], 0.001)
     # on the glass: almost the whole half space, 1 mm from a 2 x 1.4 m window
-    assert v["h_angle_deg"][0] > 179.8 and v["h_angle_err_deg"][0] < 0.01
-    assert abs(v["glazing"][0] - exact_glazing(b, pts[:1])[0]) < 1e-9
-    total = v["sky"][0] + v["landscape"][0] + v["ground"][0]
-    assert abs(total - v["glazing"][0]) < 1e-9  # nothing blocks it
+    assert v.sight.angle_deg[0] > 179.8 and v.sight.angle_err_deg[0] < 0.01
+    assert abs(v.solid.glazing_sr[0] - exact_glazing(b, pts[:1])[0]) < 1e-9
+    total = v.solid.sr["sky"][0] + v.solid.sr["landscape"][0] + v.solid.sr["ground"][0]
+    assert abs(total - v.solid.glazing_sr[0]) < 1e-9  # nothing blocks it
     # in the wall plane beside the window: the window is seen edge-on; the grazing sight angle is
     # the angle between the window's two ends from 1 mm in front of the plane
     expected = sight_angle_deg(1.5, 0.001)
-    assert abs(v["h_angle_deg"][1] - expected) <= v["h_angle_err_deg"][1] + 1e-9
-    assert abs(v["glazing"][1] - exact_glazing(b, pts[1:])[0]) < 1e-9
+    assert abs(v.sight.angle_deg[1] - expected) <= v.sight.angle_err_deg[1] + 1e-9
+    assert abs(v.solid.glazing_sr[1] - exact_glazing(b, pts[1:])[0]) < 1e-9
 
 
 @pytest.mark.parametrize("p", [[1.0, 2.0, 1.2], [-1.0, 4.0, 1.7], [0.5, 3.0, 2.2], [0.0, 1.0, 0.8]])
@@ -70,8 +67,8 @@ def test_viewpoints_on_the_window_edge_lines(build, p):
     box = BoxRoom()
     b = build(box)
     r = run_points(b, [p])
-    assert abs(r["h_angle_deg"][0] - sight_angle_deg(p[0], p[1])) <= r["h_angle_err_deg"][0] + 1e-9
-    assert abs(r["glazing"][0] - exact_glazing(b, [p])[0]) < 1e-9
+    assert abs(r.sight.angle_deg[0] - sight_angle_deg(p[0], p[1])) <= r.sight.angle_err_deg[0] + 1e-9
+    assert abs(r.solid.glazing_sr[0] - exact_glazing(b, [p])[0]) < 1e-9
     assert_layers(r, [p], box)
 
 
@@ -81,8 +78,9 @@ def test_touching_windows_and_many_triangles_give_the_one_window_answer(build):
     split = build(BoxRoom(window_split=40), sub="split")  # 40 glazing strips sharing edges
     assert len(split.room.windows) == 1
     r1, r2 = run_points(one, pts), run_points(split, pts)
-    for k in ("sky", "landscape", "ground", "h_angle_deg", "distance"):
-        assert np.allclose(r1[k], r2[k], atol=1e-9), k
+    for get in (*(lambda r, k=k: r.solid.sr[k] for k in ("sky", "landscape", "ground")),
+                lambda r: r.sight.angle_deg, lambda r: r.distance_m):
+        assert np.allclose(get(r1), get(r2), atol=1e-9)
 
 
 # --- modelling errors -----------------------------------------------------------------------
@@ -122,8 +120,9 @@ def test_nan_degenerate_and_duplicate_faces_are_dropped_and_counted(build, tmp_p
     pts = np.array([[0.3, 2.0, 1.2], [-1.2, 4.5, 1.7]])
     r0, r1 = run_points(b0, pts), run_points(b1, pts)
     b1.engine.close()
-    for k in ("sky", "landscape", "ground", "glazing", "h_angle_deg", "distance"):
-        assert np.allclose(r0[k], r1[k], atol=1e-9), k
+    for get in (*(lambda r, k=k: r.solid.sr[k] for k in ("sky", "landscape", "ground")), lambda r: r.solid.glazing_sr,
+                lambda r: r.sight.angle_deg, lambda r: r.distance_m):
+        assert np.allclose(get(r0), get(r1), atol=1e-9)
 
 
 def test_a_layer_missing_entirely_leaves_sky_and_ground_by_direction(build, tmp_path):
@@ -144,14 +143,14 @@ def test_a_layer_missing_entirely_leaves_sky_and_ground_by_direction(build, tmp_
 
     sky = rect_solid_angle_y0(-1, 1, 1.2, 2.2, p[0])
     ground = rect_solid_angle_y0(-1, 1, 0.8, 1.2, p[0])
-    assert abs(r["sky"][0] - sky) <= r["err_sky"][0] + 1e-9
-    assert abs(r["ground"][0] - ground) <= r["err_ground"][0] + 1e-9
-    assert r["landscape"][0] == 0 and np.isinf(r["distance"][0])
+    assert abs(r.solid.sr["sky"][0] - sky) <= r.solid.err_sr["sky"][0] + 1e-9
+    assert abs(r.solid.sr["ground"][0] - ground) <= r.solid.err_sr["ground"][0] + 1e-9
+    assert r.solid.sr["landscape"][0] == 0 and np.isinf(r.distance_m[0])
 
 
 def test_yaml_exponent_floats_are_numbers_in_files_and_overrides(tmp_path):
     """PyYAML alone reads 1e-5 as the string '1e-5' (YAML 1.1); project files use YAML 1.2 floats."""
-    from en17037cli.project import parse_yaml
+    from en17037cli.project.yaml12 import parse_yaml
 
     assert parse_yaml("a: 1e-5\nb: -2E3\nc: .5\nd: 02-01\ne: 10") == {"a": 1e-5, "b": -2000.0, "c": 0.5, "d": "02-01", "e": 10}
     path = box_room_project(tmp_path / "p", BoxRoom(), view={"angle_tolerance_deg": 1e-5})
@@ -181,8 +180,8 @@ def test_extreme_sizes_match_the_hand_values(build, box, pts):
     half = (box.window_x[1] - box.window_x[0]) / 2
     for i, p in enumerate(pts):
         expected = sight_angle_deg(p[0], p[1], half=half, reveal=box.wall_thickness)
-        assert abs(r["h_angle_deg"][i] - expected) <= r["h_angle_err_deg"][i] + 1e-9, (i, r["h_angle_deg"][i], expected)
-    assert np.allclose(r["glazing"], exact_glazing(b, pts), rtol=1e-9, atol=1e-12)
+        assert abs(r.sight.angle_deg[i] - expected) <= r.sight.angle_err_deg[i] + 1e-9, (i, r.sight.angle_deg[i], expected)
+    assert np.allclose(r.solid.glazing_sr, exact_glazing(b, pts), rtol=1e-9, atol=1e-12)
     if not box.wall_thickness:
         assert_layers(r, pts, box)
 
@@ -193,8 +192,7 @@ def _hours(build, lat, lon, tz, date="02-01", north=0.0, **sun):
     b = build(BoxRoom(building_height=0), location={"latitude": lat, "longitude": lon, "timezone": tz},
               sunlight={"date": date, "period": {"start": date, "end": date}, "refraction": False, **sun},
               view=None, true_north_deg=north, sub=f"s{lat}_{lon}_{north}")
-    r = sunlight.assess_room(b.engine, b.scene, b.room, b.sun_cfg, b.project.config["location"], b.thresholds)
-    return r
+    return b.sunlight()
 
 
 def _declination(date, utc_offset_h=0.0):
@@ -210,7 +208,7 @@ def _formula_hours(lat, dec, gamma):
 
 def test_polar_night_gives_zero_hours_not_an_error(build):
     r = _hours(build, 78.0, 15.6, "Arctic/Longyearbyen")
-    assert r["hours"][0] == 0.0 and r["level"] == 0 and r["error_h"][0] == 0.0
+    assert r.hours[0] == 0.0 and r.level == 0 and r.error_h[0] == 0.0
 
 
 @pytest.mark.parametrize("lat, lon, tz, offset", [
@@ -224,7 +222,7 @@ def test_unobstructed_hours_match_the_hour_angle_formula_anywhere(build, lat, lo
     the whole day at these latitudes, so the formula applies (declination at local noon)."""
     r = _hours(build, lat, lon, tz)
     expected = _formula_hours(lat, _declination("02-01", offset), 11.0)
-    assert abs(r["hours"][0] - expected) < 3 / 60, (r["hours"][0], expected)  # declination drift over the day
+    assert abs(r.hours[0] - expected) < 3 / 60, (r.hours[0], expected)  # declination drift over the day
 
 
 def test_southern_hemisphere_north_window_sees_the_sun_only_north_of_the_prime_vertical(build):
@@ -234,7 +232,7 @@ def test_southern_hemisphere_north_window_sees_the_sun_only_north_of_the_prime_v
     r = _hours(build, lat, 18.4, "Etc/GMT-1", north=180.0)
     dec = _declination("02-01", 1.0)
     expected = 2 * np.degrees(np.arccos(np.tan(np.radians(dec)) / np.tan(np.radians(lat)))) / 15
-    assert abs(r["hours"][0] - expected) < 3 / 60, (r["hours"][0], expected)
+    assert abs(r.hours[0] - expected) < 3 / 60, (r.hours[0], expected)
 
 
 def test_sun_exactly_at_the_minimum_altitude_at_noon_counts_for_no_time(build):
@@ -246,9 +244,9 @@ def test_sun_exactly_at_the_minimum_altitude_at_noon_counts_for_no_time(build):
     elev, _ = sp.solar_position(t, lat, 0.0, 0.0, 1013.25, 12.0, refraction=False)
     top = float(elev.max())
     r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=top)
-    assert r["hours"][0] < 10 / 3600  # an instant, not an interval
+    assert r.hours[0] < 10 / 3600  # an instant, not an interval
     r = _hours(build, lat, 0.0, "UTC", min_altitude_deg=top + 0.01)
-    assert r["hours"][0] == 0.0
+    assert r.hours[0] == 0.0
 
 
 def test_sun_grazing_the_window_plane_at_the_equinox(build):
@@ -256,7 +254,7 @@ def test_sun_grazing_the_window_plane_at_the_equinox(build):
     minimum altitude the window sees it from sunrise to sunset."""
     r = _hours(build, 52.0, 0.0, "UTC", date="03-20", min_altitude_deg=0.0)
     expected = _formula_hours(52.0, _declination("03-20"), 0.0)
-    assert abs(r["hours"][0] - expected) < 5 / 60
+    assert abs(r.hours[0] - expected) < 5 / 60
 
 
 # --- extremes of the knobs ------------------------------------------------------------------
@@ -265,19 +263,19 @@ def test_sun_grazing_the_window_plane_at_the_equinox(build):
 def test_timestep_and_tolerance_extremes(build, timestep_min, tolerance_s):
     r = _hours(build, 52.0, 0.0, "UTC", timestep_min=timestep_min, tolerance_s=tolerance_s)
     ref = _hours(build, 52.0, 0.0, "UTC")
-    assert abs(r["hours"][0] - ref["hours"][0]) <= r["error_h"][0] + ref["error_h"][0] + 1e-9
-    assert r["error_h"][0] <= 2 * tolerance_s / 3600 + 1e-12
+    assert abs(r.hours[0] - ref.hours[0]) <= r.error_h[0] + ref.error_h[0] + 1e-9
+    assert r.error_h[0] <= 2 * tolerance_s / 3600 + 1e-12
 
 
 def test_grid_spacing_larger_than_the_room_gives_one_point(build):
     b = build(BoxRoom(), view={"grid_spacing_m": 50.0})
-    res = view.assess_room(b.engine, b.scene, b.room, b.view_cfg, b.thresholds)
-    assert [len(e["points_local"]) for e in res["eye_heights"]] == [1, 1]
+    res = b.view_room()
+    assert [len(e.points_local) for e in res.eye_heights] == [1, 1]
 
 
 @pytest.mark.parametrize("threshold, visible", [(0.0, True), (4 * np.pi, False)])
 def test_layer_thresholds_of_zero_and_four_pi(build, threshold, visible):
     b = build(BoxRoom(), view={"layer_threshold_sr": float(threshold)})
     r = run_points(b, [[0.3, 2.0, 1.2]])
-    assert bool(r["visible"]["sky"][0]) is visible and bool(r["visible"]["landscape"][0]) is visible
-    assert r["level_layers"][0] == (3 if visible else 0)
+    assert bool(r.visible["sky"][0]) is visible and bool(r.visible["landscape"][0]) is visible
+    assert r.level_by_criterion["layers"][0] == (3 if visible else 0)

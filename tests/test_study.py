@@ -6,9 +6,9 @@ import csv
 import numpy as np
 from click.testing import CliRunner
 
-from en17037cli import study
 from en17037cli.cli import cli
 from en17037cli.samples import BoxRoom, box_room_project
+from en17037cli.studies import convergence as study
 
 SUN = {"date": "02-01", "period": {"start": "02-01", "end": "02-01"}}
 
@@ -53,4 +53,4 @@ def test_unknown_ladder_and_target_are_input_errors(tmp_path):
     path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=SUN)
     for args in (["--ladder", "view.nope"], ["--target", "speed=1"], ["--target", "angle_deg=x"]):
         r = CliRunner().invoke(cli, ["study", "convergence", str(path), "--out", str(tmp_path / "o"), *args])
-        assert r.exit_code == 2 and r.output.startswith("error: --")
+        assert r.exit_code == 2 and r.output.startswith("error: ") and "--" in r.output and len(r.output.splitlines()) == 1

@@ -5,7 +5,7 @@ import datetime as dt
 
 import numpy as np
 
-from en17037cli.sun import position as sp
+from en17037cli.criteria.sunlight import solar_position as sp
 
 
 def test_spa_reference_example():
@@ -20,7 +20,7 @@ def test_spa_reference_example():
 
 def test_spa_intermediate_values():
     # Same example, intermediate quantities of Table A5.1 (L, B, R, delta psi, delta epsilon, epsilon).
-    t = dt.datetime(2003, 10, 17, 19, 30, 30, tzinfo=dt.timezone.utc).timestamp()
+    t = dt.datetime(2003, 10, 17, 19, 30, 30, tzinfo=dt.UTC).timestamp()
     jd = sp.julian_day(t)
     assert abs(jd - 2452930.312847) < 1e-6
     jme = sp.julian_ephemeris_millennium(sp.julian_ephemeris_century(sp.julian_ephemeris_day(jd, 67.0)))

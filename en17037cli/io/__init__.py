@@ -7,9 +7,9 @@ no units of the project and no transform (the scene does). Bad files raise
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 from en17037cli.errors import InputError
 from en17037cli.io.mesh import Mesh, Part, Site, Space  # noqa: F401 - the package's public types

@@ -7,9 +7,9 @@ semantic surface. Readers know nothing of layers rules, rooms or the standard; t
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Mapping
 
 import numpy as np
 

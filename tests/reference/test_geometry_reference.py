@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from en17037cli.geometry import rectangle_solid_angle, triangle_solid_angle, triangulate_polygon, triangle_normals
+from en17037cli.geometry import rectangle_solid_angle, triangle_normals, triangle_solid_angle, triangulate_polygon
 from en17037cli.samples import rect_solid_angle_y0
-from en17037cli.standard import level_from_layers, level_from_value, near_threshold, room_level, THRESHOLDS
+from en17037cli.standard import THRESHOLDS, LevelThresholds, level_from_layers, level_from_value, near_threshold, room_level
 
 
 def test_square_seen_from_its_centre_axis():
@@ -45,12 +45,12 @@ def test_slightly_non_planar_polygon_still_triangulates():
 
 @pytest.mark.parametrize("value,level", [(13.99, 0), (14, 1), (27.9, 1), (28, 2), (54, 3), (np.inf, 3), (np.nan, 0)])
 def test_levels_compare_with_greater_or_equal(value, level):
-    assert level_from_value([value], THRESHOLDS["horizontal_sight_angle_deg"])[0] == level
+    assert level_from_value([value], LevelThresholds(**THRESHOLDS["horizontal_sight_angle_deg"]))[0] == level
 
 
 def test_layer_rule_of_table_a5():
-    s, l, g = [True, False, True, True, False], [True, True, True, False, False], [True, False, False, True, True]
-    assert level_from_layers(s, l, g).tolist() == [3, 1, 2, 0, 0]
+    sky, land, ground = [True, False, True, True, False], [True, True, True, False, False], [True, False, False, True, True]
+    assert level_from_layers(sky, land, ground).tolist() == [3, 1, 2, 0, 0]
 
 
 def test_room_level_is_the_highest_reached_by_the_area_fraction():
@@ -61,7 +61,7 @@ def test_room_level_is_the_highest_reached_by_the_area_fraction():
 
 
 def test_near_threshold():
-    t = THRESHOLDS["outside_distance_m"]
+    t = LevelThresholds(**THRESHOLDS["outside_distance_m"])
     assert near_threshold([19.9995], [0.001], t).tolist() == [True]
     assert near_threshold([19.99], [0.001], t).tolist() == [False]
     assert near_threshold([np.inf], [np.inf], t).tolist() == [False]
@@ -76,8 +76,7 @@ def test_offset_rectangles_and_clipped_triangles_against_triangle_sums():
     """Any rectangle on the unit-distance plane (foot inside or outside it) equals the sum of its
     two Van Oosterom-Strackee triangles; a triangle clipped to a rectangle equals the fan of the
     clipped polygon, worked out here by hand for a right triangle cut by a vertical line."""
-    from en17037cli.geometry import offset_rectangle_solid_angle
-    from en17037cli.view_math import clipped_solid_angle
+    from en17037cli.geometry import clipped_solid_angle, offset_rectangle_solid_angle
 
     rng = np.random.default_rng(3)
     x0, y0 = rng.uniform(-5, 5, (2, 200))

@@ -6,10 +6,10 @@ import datetime as dt
 import numpy as np
 import pytest
 
-from en17037cli import sunlight
+from en17037cli.criteria.sunlight import intervals as sun_intervals
+from en17037cli.criteria.sunlight import solar_position as sp
 from en17037cli.errors import InputError
 from en17037cli.samples import BoxRoom
-from en17037cli.sun import position as sp
 
 
 def sun_cfg(date, **kw):
@@ -19,8 +19,7 @@ def sun_cfg(date, **kw):
 
 
 def assess(b):
-    loc = b.project.config["location"]
-    return sunlight.assess_room(b.engine, b.scene, b.room, b.sun_cfg, loc, b.thresholds)
+    return b.sunlight()
 
 
 def hour_angle_deg(lat, dec, gamma):
@@ -36,7 +35,7 @@ def test_unobstructed_south_window_matches_hour_angle_formula(build, lat, gamma,
     b = build(BoxRoom(building_height=0), location={"latitude": lat, "longitude": 0.0, "timezone": "UTC"},
               sunlight=sun_cfg(date, min_altitude_deg=gamma), view=None)
     r = assess(b)
-    hours = r["hours"][0]
+    hours = r.hours[0]
     noon = dt.datetime.fromisoformat(f"2026-{date}T12:00:00+00:00").timestamp()
     dec = sp.declination([noon - 6 * 3600, noon, noon + 6 * 3600])
     H = hour_angle_deg(lat, dec[1], gamma)
@@ -47,7 +46,7 @@ def test_unobstructed_south_window_matches_hour_angle_formula(build, lat, gamma,
     # over half a day and the engine's own bisection error.
     d_dec = np.max(np.abs(dec[[0, 2]] - dec[1]))
     dH = abs(hour_angle_deg(lat, dec[1] + d_dec, gamma) - H)
-    tol = 2 * dH / 15 + 40 / 3600 + r["error_h"][0]
+    tol = 2 * dH / 15 + 40 / 3600 + r.error_h[0]
     assert abs(hours - expected) <= tol, (hours, expected, tol)
     # the check stays tight: under 6 minutes even at 60 N with gamma = 11 deg on 1 February, where
     # the sun barely clears 11 deg (noon altitude about 13 deg) and dH/d delta is large
@@ -79,25 +78,25 @@ def test_window_behind_a_wall_matches_brute_force(build, reveal, date):
     b = build(box, location={"latitude": 52.0, "longitude": 0.0, "timezone": "UTC"},
               sunlight=sun_cfg(date, min_altitude_deg=5.0), view=None)
     r = assess(b)
-    p = b.scene.to_world(r["points_local"][0])
+    p = b.scene.to_world(r.points_local[0])
     # P: horizontal centre, max(floor + 1.2, sill + 0.3) = 1.2 m, on the room-side plane of the opening
     expected_y = reveal if reveal > 0 else 1e-3
     assert np.allclose(p, [0.0, expected_y, 1.2], atol=1e-4), p
-    assert abs(r["reveal_depths_m"][0] - reveal) < 1e-4
+    assert abs(r.reveal_depths_m[0] - reveal) < 1e-4
     expected = brute_force_hours(date, 52.0, 0.0, p, box, 5.0)
     # brute force counts 1 s samples: at most 1 s per visibility change (4 per day here);
     # the engine is exact to its bisection error
-    assert abs(r["hours"][0] - expected) <= (4.0 + 1.0) / 3600 + r["error_h"][0], (r["hours"][0], expected)
-    assert r["hours"][0] > 0.5  # the wall does not hide the whole day
+    assert abs(r.hours[0] - expected) <= (4.0 + 1.0) / 3600 + r.error_h[0], (r.hours[0], expected)
+    assert r.hours[0] > 0.5  # the wall does not hide the whole day
 
 
 def test_polar_night_gives_zero_hours_and_level_none(build, recwarn):
     b = build(BoxRoom(), location={"latitude": 78.0, "longitude": 15.0, "timezone": "Arctic/Longyearbyen"},
               sunlight=sun_cfg("02-01", refraction=True, min_altitude_deg=11.0), view=None)
     r = assess(b)
-    assert r["hours"].tolist() == [0.0]
-    assert r["level"] == 0
-    assert np.all(np.isfinite(r["error_h"]))
+    assert r.hours.tolist() == [0.0]
+    assert r.level == 0
+    assert np.all(np.isfinite(r.error_h))
     assert len(recwarn) == 0
 
 
@@ -107,7 +106,7 @@ def test_results_do_not_depend_on_the_timestep(build):
         b = build(BoxRoom(), sub=f"s{step}", location={"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
                   sunlight={"date": "worst", "period": {"start": "02-01", "end": "02-07"}, "timestep_min": step}, view=None)
         r = assess(b)
-        results.append((r["hours"], r["error_h"]))
+        results.append((r.hours, r.error_h))
     base_h, base_e = results[0]
     for h, e in results[1:]:
         assert np.all(np.abs(h - base_h) <= base_e + e + 1e-9), (h, base_h)
@@ -122,10 +121,9 @@ def test_point_p_above_the_window_head_is_an_input_error(build):
 
 def test_explicit_sun_point_overrides_the_rule(build):
     b = build(BoxRoom(window_z=(0.2, 1.0)), sunlight=sun_cfg("02-01"), view=None)
-    loc = b.project.config["location"]
-    r = sunlight.assess_room(b.engine, b.scene, b.room, b.sun_cfg, loc, b.thresholds, explicit=[[0.0, 0.001, 0.6]])
-    assert np.allclose(b.scene.to_world(r["points_local"][0]), [0.0, 0.001, 0.6])
-    assert r["hours"][0] > 0
+    r = b.sunlight(sun_points=[[0.0, 0.001, 0.6]])
+    assert np.allclose(b.scene.to_world(r.points_local[0]), [0.0, 0.001, 0.6])
+    assert r.hours[0] > 0
 
 
 def test_interval_union_and_bisection_on_a_known_function():
@@ -135,12 +133,12 @@ def test_interval_union_and_bisection_on_a_known_function():
         return ((s >= 8 * 3600) & (s < 10.5 * 3600)) | ((s >= 10.75 * 3600) & (s < 16 * 3600))
 
     t0 = np.array([0.0, 86400.0])
-    iv, err = sunlight.visible_intervals(visible, t0, t0 + 86400, 300.0, 0.5)
+    iv, err = sun_intervals.visible_intervals(visible, t0, t0 + 86400, 300.0, 0.5)
     for day in iv:
         hours = float(np.sum(day[:, 1] - day[:, 0])) / 3600
         assert abs(hours - (2.5 + 5.25)) <= 4 * 0.5 / 3600
         assert len(day) == 2
     assert np.all(err <= 4 * 0.5)
     # the documented limit: a 15 min gap between two hourly samples that both see the sun is missed
-    iv, _ = sunlight.visible_intervals(visible, t0, t0 + 86400, 3600.0, 0.5)
+    iv, _ = sun_intervals.visible_intervals(visible, t0, t0 + 86400, 3600.0, 0.5)
     assert abs(float(np.sum(iv[0][:, 1] - iv[0][:, 0])) / 3600 - 8.0) <= 2 * 0.5 / 3600

@@ -8,15 +8,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from en17037cli import view
 from en17037cli.samples import BoxRoom, layer_solid_angles, rect_solid_angle_y0, sight_angle_deg
 
 POINTS = np.array([[0.3, 2.0, 1.2], [-1.2, 5.5, 1.2], [1.5, 0.6, 1.7], [0.0, 3.0, 1.7], [-1.5, 1.0, 1.2]])
 
 
 def run(b, pts_world):
-    rg = view.room_geometry(b.scene, b.room)
-    return view.assess_points(b.engine, rg, b.scene.to_local(pts_world), b.view_cfg, b.thresholds)
+    return b.view_points(pts_world, frame_depth_m=0.5)
 
 
 def test_sight_angle_solid_angles_and_distance_match_hand_values(build):
@@ -25,23 +23,23 @@ def test_sight_angle_solid_angles_and_distance_match_hand_values(build):
     r = run(b, POINTS)
     for i, p in enumerate(POINTS):
         # the bisection tolerance is 1e-4 deg per transition, two transitions per point
-        assert abs(r["h_angle_deg"][i] - sight_angle_deg(p[0], p[1])) <= max(r["h_angle_err_deg"][i], 1e-6) + 1e-9
-        assert r["h_angle_err_deg"][i] <= 0.01
+        assert abs(r.sight.angle_deg[i] - sight_angle_deg(p[0], p[1])) <= max(r.sight.angle_err_deg[i], 1e-6) + 1e-9
+        assert r.sight.angle_err_deg[i] <= 0.01
         sky, land, ground = layer_solid_angles(p, box)
         for key, exact in (("sky", sky), ("landscape", land), ("ground", ground)):
-            err = abs(r[key][i] - exact)
+            err = abs(r.solid.sr[key][i] - exact)
             # the bound for the defaults: max(1 %, 1e-3 sr); and the estimate must cover the error
-            assert err <= max(0.01 * exact, 1e-3), (key, i, r[key][i], exact)
-            assert err <= r["err_" + key][i] + 1e-9, (key, i, err, r["err_" + key][i])
+            assert err <= max(0.01 * exact, 1e-3), (key, i, r.solid.sr[key][i], exact)
+            assert err <= r.solid.err_sr[key][i] + 1e-9, (key, i, err, r.solid.err_sr[key][i])
         glazing = rect_solid_angle_y0(-1, 1, 0.8, 2.2, p)
         # cells tile the window exactly: their weights add up to its solid angle (round-off only)
-        assert abs(r["glazing"][i] - glazing) < 1e-9
+        assert abs(r.solid.glazing_sr[i] - glazing) < 1e-9
         # a facade parallel to the window across a 25 m street gives 25 m in every direction
-        assert abs(r["distance"][i] - 25.0) < 1e-3  # float32 ray distances at 25-60 m: ~1e-5 m
+        assert abs(r.distance_m[i] - 25.0) < 1e-3  # float32 ray distances at 25-60 m: ~1e-5 m
     # from the back of the room the building hides the sky entirely (z_top > window head); an
     # exact zero is not 'near' the 0 sr layer threshold
-    assert r["sky"][1] == 0.0 and not r["visible"]["sky"][1]
-    assert not r["near"][1]
+    assert r.solid.sr["sky"][1] == 0.0 and not r.visible["sky"][1]
+    assert not r.near[1]
 
 
 @pytest.mark.parametrize("reveal", [0.4])
@@ -53,18 +51,19 @@ def test_reveals_reduce_the_sight_angle_to_inner_and_outer_edges(build, reveal):
     r = run(b, pts)
     for i, p in enumerate(pts):
         expected = sight_angle_deg(p[0], p[1], reveal=reveal)
-        assert abs(r["h_angle_deg"][i] - expected) <= max(r["h_angle_err_deg"][i], 1e-6) + 1e-9, (i, r["h_angle_deg"][i], expected)
+        assert abs(r.sight.angle_deg[i] - expected) <= max(r.sight.angle_err_deg[i], 1e-6) + 1e-9, (i, r.sight.angle_deg[i], expected)
     # and it is smaller than without reveals wherever a reveal is in the way
     plain = [sight_angle_deg(p[0], p[1]) for p in pts]
-    assert np.all(r["h_angle_deg"] <= np.array(plain) + 1e-6)
+    assert np.all(r.sight.angle_deg <= np.array(plain) + 1e-6)
 
 
 def test_closed_shutter_gives_no_view(build):
     b = build(BoxRoom(shutter=True))
     r = run(b, POINTS)
-    for key in ("sky", "landscape", "ground", "h_angle_deg"):
-        assert np.all(r[key] == 0.0), key
-    assert np.all(r["level"] == 0)
+    for key in ("sky", "landscape", "ground"):
+        assert np.all(r.solid.sr[key] == 0.0), key
+    assert np.all(r.sight.angle_deg == 0.0)
+    assert np.all(r.level == 0)
 
 
 def test_no_leak_through_shared_edges_of_a_split_window(build):
@@ -85,9 +84,10 @@ def test_no_leak_through_shared_edges_of_a_split_window(build):
     origin = np.column_stack([rng.uniform(-1.8, 1.8, n), rng.uniform(0.5, 5.5, n), rng.uniform(0.3, 2.7, n)])
     d = target - origin
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    from en17037cli.raytrace import BLOCKED, room_window_group, trace_through_windows
+    from en17037cli.criteria.view.rays import BLOCKED
+    from en17037cli.scene import room_window_group
 
-    cls = trace_through_windows(open_.engine, room_window_group(open_.room), open_.scene.to_local(origin), d)[0]
+    cls = open_.view_rays.through_windows(room_window_group(open_.room), open_.scene.to_local(origin), d)[0]
     assert np.count_nonzero(cls == BLOCKED) == 0
     # The panel overlaps the opening by 5 cm only: a grazing ray can pass beside it, which is
     # geometry, not a leak. Keep the rays that cross the panel's plane (y = 0.05) on the panel,
@@ -102,7 +102,7 @@ def test_no_leak_through_shared_edges_of_a_split_window(build):
     hit = origin2 + t[:, None] * d_all
     on_panel = (np.abs(hit[:, 0]) < 1.05 - 1e-6) & (hit[:, 2] > 0.75 + 1e-6) & (hit[:, 2] < 2.25 - 1e-6)
     assert on_panel.sum() > 1_000_000
-    cls = trace_through_windows(shut.engine, room_window_group(shut.room), shut.scene.to_local(origin2[on_panel]), d_all[on_panel])[0]
+    cls = shut.view_rays.through_windows(room_window_group(shut.room), shut.scene.to_local(origin2[on_panel]), d_all[on_panel])[0]
     assert np.count_nonzero(cls != BLOCKED) == 0
     # the split window is still one window
     assert len(open_.scene.windows) == 1 and len(open_.scene.windows[0].face_ids) == 100
@@ -110,15 +110,15 @@ def test_no_leak_through_shared_edges_of_a_split_window(build):
 
 def test_room_levels_from_the_grid(build):
     b = build(BoxRoom(), view={"grid_spacing_m": 1.0})
-    res = view.assess_room(b.engine, b.scene, b.room, b.view_cfg, b.thresholds)
-    assert [e["eye_height_m"] for e in res["eye_heights"]] == [1.2, 1.7]
-    for e in res["eye_heights"]:
-        v = e["values"]
-        pts = e["points_local"] + b.scene.origin
+    res = b.view_room()
+    assert [e.eye_height_m for e in res.eye_heights] == [1.2, 1.7]
+    for e in res.eye_heights:
+        v = e.values
+        pts = e.points_local + b.scene.origin
         expected = np.array([sight_angle_deg(x, y) for x, y in pts[:, :2]])
-        assert np.all(np.abs(v["h_angle_deg"] - expected) <= 1e-3)
+        assert np.all(np.abs(v.sight.angle_deg - expected) <= 1e-3)
         # 25 m street: the distance criterion is 'medium' (>= 20 m, < 50 m) at every point
-        assert np.all(v["level_distance"] == 2)
-        assert e["level_by_criterion"]["outside_distance"] == 2
+        assert np.all(v.level_by_criterion["outside_distance"] == 2)
+        assert e.level_by_criterion["outside_distance"] == 2
         # the room level is the lowest of the three criteria
-        assert e["level"] == min(e["level_by_criterion"].values())
+        assert e.level == min(e.level_by_criterion.values())

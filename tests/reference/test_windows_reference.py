@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 import shapely
 
-from en17037cli import view
 from en17037cli.geometry import triangle_solid_angle
 from en17037cli.samples import MULLION_GAP, BoxRoom, layer_solid_angles, sight_angle_deg
 
@@ -19,8 +18,7 @@ POINTS = np.array([[0.3, 2.0, 1.2], [-1.2, 5.5, 1.7], [0.9, 0.8, 1.2], [0.0, 3.0
 
 
 def run(b, pts):
-    rg = view.room_geometry(b.scene, b.room, b.view_cfg["frame_depth_m"])
-    return view.assess_points(b.engine, rg, b.scene.to_local(pts), b.view_cfg, b.thresholds)
+    return b.view_points(pts)
 
 
 def polygon_solid_angle(p, poly) -> float:
@@ -57,18 +55,18 @@ def test_triangular_window_layers_by_polygon_clipping(build, i):
     p = POINTS[i]
     r = run(b, p[None])
     tri = shapely.Polygon([(-1, 0.8), (1, 0.8), (-1, 2.2)])
-    assert abs(r["glazing"][0] - polygon_solid_angle(p, tri)) < 1e-9
+    assert abs(r.solid.glazing_sr[0] - polygon_solid_angle(p, tri)) < 1e-9
     for key, band in zip(("sky", "landscape", "ground"), bands(p, box)):
         exact = polygon_solid_angle(p, tri.intersection(band))
-        err = abs(r[key][0] - exact)
-        assert err <= r["err_" + key][0] + 1e-9, (key, r[key][0], exact, r["err_" + key][0])
+        err = abs(r.solid.sr[key][0] - exact)
+        assert err <= r.solid.err_sr[key][0] + 1e-9, (key, r.solid.sr[key][0], exact, r.solid.err_sr[key][0])
         assert err <= 2e-3
     # the horizontal fan meets the triangle's sloping edge: the chord at eye height
     z = p[2]
     x_edge = -1 + 2 * (2.2 - z) / 1.4  # the hypotenuse from (1, 0.8) to (-1, 2.2)
     half, centre = (x_edge + 1) / 2, (x_edge - 1) / 2
     expected = sight_angle_deg(p[0] - centre, p[1], half=half)
-    assert abs(r["h_angle_deg"][0] - expected) <= r["h_angle_err_deg"][0] + 1e-9
+    assert abs(r.sight.angle_deg[0] - expected) <= r.sight.angle_err_deg[0] + 1e-9
 
 
 def test_double_glazing_is_not_counted_twice(build):
@@ -79,8 +77,8 @@ def test_double_glazing_is_not_counted_twice(build):
     pts = POINTS[[0, 1, 3]]
     r1, r2 = run(single, pts), run(double, pts)
     for key in ("sky", "landscape", "ground"):
-        assert np.all(np.abs(r2[key] - r1[key]) <= r1["err_" + key] + r2["err_" + key] + 1e-9), key
-    assert np.all(np.abs(r2["h_angle_deg"] - r1["h_angle_deg"]) <= 0.01)
+        assert np.all(np.abs(r2.solid.sr[key] - r1.solid.sr[key]) <= r1.solid.err_sr[key] + r2.solid.err_sr[key] + 1e-9), key
+    assert np.all(np.abs(r2.sight.angle_deg - r1.sight.angle_deg) <= 0.01)
 
 
 def test_mullions_5_cm_wide_are_resolved_from_the_back_of_the_room(build):
@@ -100,13 +98,13 @@ def test_mullions_5_cm_wide_are_resolved_from_the_back_of_the_room(build):
         for key, band, plain in zip(("sky", "landscape", "ground"), bands(p, box), no_mullion):
             exact = polygon_solid_angle(p, visible.intersection(band))
             assert exact < plain - 1e-4 or plain == 0  # the mullions matter
-            err = abs(r[key][i] - exact)
-            assert err <= r["err_" + key][i] + 1e-9, (i, key, r[key][i], exact)
+            err = abs(r.solid.sr[key][i] - exact)
+            assert err <= r.solid.err_sr[key][i] + 1e-9, (i, key, r.solid.sr[key][i], exact)
         # sight angle: the fan (0.1 deg) sees both 0.5 deg gaps, bisected to 1e-4 deg
         full = sight_angle_deg(x0, y0)
         lost = sum(np.degrees(np.arctan2(xm + 0.025 - x0, y0 - MULLION_GAP) - np.arctan2(xm - 0.025 - x0, y0 - MULLION_GAP))
                    for xm in box.mullions)
-        assert abs(r["h_angle_deg"][i] - (full - lost)) <= r["h_angle_err_deg"][i] + 1e-9
+        assert abs(r.sight.angle_deg[i] - (full - lost)) <= r.sight.angle_err_deg[i] + 1e-9
 
 
 def test_a_2_cm_gap_between_two_windows_from_the_back_of_a_deep_room(build):
@@ -121,8 +119,8 @@ def test_a_2_cm_gap_between_two_windows_from_the_back_of_a_deep_room(build):
     for i, p in enumerate(pts):
         x0, y0 = p[0], p[1]
         gap = np.degrees(np.arctan2(0.01 - x0, y0) - np.arctan2(-0.01 - x0, y0))
-        assert abs(r["h_angle_deg"][i] - (sight_angle_deg(x0, y0) - gap)) <= r["h_angle_err_deg"][i] + 1e-9
+        assert abs(r.sight.angle_deg[i] - (sight_angle_deg(x0, y0) - gap)) <= r.sight.angle_err_deg[i] + 1e-9
         visible = shapely.box(-1, 0.8, -0.01, 2.2).union(shapely.box(0.01, 0.8, 1, 2.2))
         for key, band in zip(("sky", "landscape", "ground"), bands(p, box)):
             exact = polygon_solid_angle(p, visible.intersection(band))
-            assert abs(r[key][i] - exact) <= r["err_" + key][i] + 1e-9, (i, key)
+            assert abs(r.solid.sr[key][i] - exact) <= r.solid.err_sr[key][i] + 1e-9, (i, key)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from en17037cli.sun import spa_tables as T
+from en17037cli.criteria.sunlight import spa_tables as T
 
 _UNIX_EPOCH_JD = 2440587.5  # Julian day of 1970-01-01T00:00:00 UTC
 

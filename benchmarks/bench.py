@@ -1,4 +1,4 @@
-"""Benchmark: ``python -m en17037cli.bench`` (or ``make bench``) prints tables and writes them as JSON.
+"""Benchmark: ``python benchmarks/bench.py`` (or ``make bench``) prints tables and writes them as JSON.
 
 Speed is measured here, never in a timed test. Sections:
 
@@ -11,7 +11,7 @@ Speed is measured here, never in a timed test. Sections:
    triangles read from a binary PLY file.
 4. **Scaling**: view time against triangles, viewpoints and angular resolution.
 
-Usage: ``python -m en17037cli.bench [--out bench.json] [--quick]``
+Usage: ``python benchmarks/bench.py [--out bench.json] [--quick]`` from the repository (it needs ``sample_projects/``).
 """
 from __future__ import annotations
 
@@ -52,12 +52,12 @@ def _load(project_path: Path, overrides=()):
 
     project = load_project(project_path, list(overrides))
     scene = build_scene(project)
-    return project, scene, RayEngine(scene)
+    return project, scene, RayEngine(scene.vertices, scene.triangles, scene.ray_groups())
 
 
 def throughput(max_rays: int = 3_000_000) -> dict:
     """Engine against raw embreex on the seed office's view rays (opaque scene, first hits)."""
-    from en17037cli import view
+    from en17037cli.criteria import CRITERIA, Context
     from en17037cli.raytrace import CHUNK
 
     project, scene, engine = _load(SAMPLES["seed-office"])
@@ -70,13 +70,13 @@ def throughput(max_rays: int = 3_000_000) -> dict:
         return original(group, origins, directions)
 
     engine.first_hit = spy
-    room = scene.rooms[0]
-    view.assess_room(engine, scene, room, project.config["view"], project.config["thresholds"])
+    room, ctx, view = scene.rooms[0], Context(project, scene, engine), CRITERIA["view"]
+    view.assess(ctx, room, view.plan(ctx, room))
     engine.first_hit = original
     o = np.concatenate([c[0] for c in captured])[:max_rays]
     d = np.concatenate([c[1] for c in captured])[:max_rays]
     n = len(o)
-    es, _ = engine._group("opaque")
+    es, _ = engine.embree_scene("opaque")
     bounds = [(a, min(a + CHUNK, n)) for a in range(0, n, CHUNK)]
 
     def raw(threads):
@@ -189,7 +189,7 @@ def _table(title: str, rows: list, columns: list) -> None:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m en17037cli.bench", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python benchmarks/bench.py", description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="bench.json", help="JSON file to write (default bench.json)")
     ap.add_argument("--quick", action="store_true", help="skip the 1-million-triangle runs")
     args = ap.parse_args(argv)

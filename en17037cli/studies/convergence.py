@@ -86,7 +86,7 @@ def fmt_value(v) -> str:
 
 
 class Runner:
-    """Runs the view or sunlight engine of one project at given overrides, on one shared scene."""
+    """Runs the view or sunlight criterion of one project at given overrides, on one shared scene."""
 
     def __init__(self, project_path: Path, overrides=(), max_points: int | None = None):
         from en17037cli.project import load_project
@@ -96,7 +96,7 @@ class Runner:
         self.path, self.base = Path(project_path), list(overrides)
         self.project = load_project(self.path, self.base)
         self.scene = build_scene(self.project)
-        self.engine = RayEngine(self.scene)
+        self.engine = RayEngine(self.scene.vertices, self.scene.triangles, self.scene.ray_groups())
         self.max_points = max_points
 
     def close(self):
@@ -104,49 +104,46 @@ class Runner:
 
     def run(self, check: str, overrides: dict, per_point: bool) -> tuple[dict, float, int]:
         """(values per quantity, wall time [s], rays) of one run."""
-        from en17037cli import sunlight, view
+        from en17037cli.criteria import CRITERIA, Context
         from en17037cli.project import load_project
 
         project = load_project(self.path, self.base + [f"{k}={v}" for k, v in overrides.items()])
-        cfg = project.config
+        ctx = Context(project, self.scene, self.engine)
+        criterion = CRITERIA[check]
         self.engine.rays_traced = 0
-        if check == "view":
-            planned = {}
-            for r in self.scene.rooms:
-                groups, notes = view.viewpoints(self.scene, r, cfg["view"], project.view_points.get(r.name))
-                if per_point and self.max_points:
-                    groups = [(h, p[np.unique(np.linspace(0, len(p) - 1, min(self.max_points, len(p))).astype(int))])
-                              for h, p in groups]
-                planned[r.name] = (groups, notes)
-            t = time.perf_counter()
-            res = [view.assess_room(self.engine, self.scene, r, cfg["view"], cfg["thresholds"], planned=planned[r.name])
-                   for r in self.scene.rooms]  # one pass per room
-            wall = time.perf_counter() - t
-            return _view_values(res), wall, self.engine.rays_traced
+        plans = {}
+        for r in self.scene.rooms:
+            plan = criterion.plan(ctx, r)
+            if check == "view" and per_point and self.max_points:
+                groups, notes = plan
+                plan = ([(h, p[np.unique(np.linspace(0, len(p) - 1, min(self.max_points, len(p))).astype(int))])
+                         for h, p in groups], notes)
+            plans[r.name] = plan
         t = time.perf_counter()
-        res = [sunlight.assess_room(self.engine, self.scene, r, cfg["sunlight"], cfg["location"], cfg["thresholds"],
-                                    r.config.get("sun_points")) for r in self.scene.rooms]
+        res = [criterion.assess(ctx, r, plans[r.name]) for r in self.scene.rooms]  # one pass per room
         wall = time.perf_counter() - t
-        return {"hours": (np.concatenate([x["hours"] for x in res]) * 3600.0,
-                          np.concatenate([x["error_h"] for x in res]) * 3600.0)}, wall, self.engine.rays_traced
+        if check == "view":
+            return _view_values(res), wall, self.engine.rays_traced
+        return {"hours": (np.concatenate([x.hours for x in res]) * 3600.0,
+                          np.concatenate([x.error_h for x in res]) * 3600.0)}, wall, self.engine.rays_traced
 
 
 def _view_values(results: list) -> dict:
     """(values, error estimates) per view quantity, concatenated over rooms and eye heights."""
     vals: dict = {k: ([], []) for k in ("sky", "landscape", "ground", "sight_angle", "distance", "share_medium")}
     for res in results:
-        for e in res["eye_heights"]:
-            v = e["values"]
-            if not v:
+        for e in res.eye_heights:
+            v = e.values
+            if v is None:
                 continue
             for k in ("sky", "landscape", "ground"):
-                vals[k][0].append(v[k])
-                vals[k][1].append(v["err_" + k])
-            vals["sight_angle"][0].append(v["h_angle_deg"])
-            vals["sight_angle"][1].append(v["h_angle_err_deg"])
-            vals["distance"][0].append(v["distance"])
-            vals["distance"][1].append(v["distance_gap"])
-            vals["share_medium"][0].append([100.0 * e["share_by_level"]["view"]["medium"]])
+                vals[k][0].append(v.solid.sr[k])
+                vals[k][1].append(v.solid.err_sr[k])
+            vals["sight_angle"][0].append(v.sight.angle_deg)
+            vals["sight_angle"][1].append(v.sight.angle_err_deg)
+            vals["distance"][0].append(v.distance_m)
+            vals["distance"][1].append(v.distance_gap_m)
+            vals["share_medium"][0].append([100.0 * e.share_by_level["view"]["medium"]])
             vals["share_medium"][1].append([np.nan])
     return {k: (np.concatenate(a) if a else np.zeros(0), np.concatenate(b) if b else np.zeros(0)) for k, (a, b) in vals.items()}
 

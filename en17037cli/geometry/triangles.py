@@ -1,4 +1,4 @@
-"""Small geometric functions on numpy arrays: normals, areas, triangulation, solid angles.
+"""Triangles and polygons in 3D: shape checks, normals and areas, triangulation, a window's axes.
 
 Lengths are in metres, angles in radians unless a name says ``_deg``.
 """
@@ -100,57 +100,6 @@ def triangle_normals(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return normals, 0.5 * norm
 
 
-def triangle_solid_angle(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Solid angle subtended by triangles as seen from points, unsigned.
-
-    Parameters
-    ----------
-    points : (n, 3) float [m]
-    triangles : (n, 3, 3) float [m]
-        Vertices of triangle i, seen from point i.
-
-    Returns
-    -------
-    (n,) float [sr]
-
-    References
-    ----------
-    Van Oosterom, A. and Strackee, J. (1983). The solid angle of a plane triangle.
-    IEEE Transactions on Biomedical Engineering BME-30(2), 125-126. doi:10.1109/TBME.1983.325207
-    """
-    r = triangles - points[:, None, :]
-    r1, r2, r3 = r[:, 0], r[:, 1], r[:, 2]
-    l1, l2, l3 = (np.linalg.norm(x, axis=1) for x in (r1, r2, r3))
-    numerator = np.einsum("ij,ij->i", r1, np.cross(r2, r3))
-    denominator = (
-        l1 * l2 * l3
-        + np.einsum("ij,ij->i", r1, r2) * l3
-        + np.einsum("ij,ij->i", r1, r3) * l2
-        + np.einsum("ij,ij->i", r2, r3) * l1
-    )
-    return np.abs(2.0 * np.arctan2(numerator, denominator))
-
-
-def rectangle_solid_angle(a: float, b: float, d: float) -> float:
-    """Solid angle of an a x b rectangle seen from a point at distance d on the normal through a corner.
-
-    Parameters
-    ----------
-    a, b, d : float [m]
-
-    Returns
-    -------
-    float [sr]
-
-    References
-    ----------
-    Omega = atan(a b / (d sqrt(a^2 + b^2 + d^2))), the corner case of the rectangular-plate
-    formula; see e.g. Mathar, R. J. (2015), "Solid angle of a rectangular plate",
-    Max-Planck Institute for Astronomy, Heidelberg.
-    """
-    return float(offset_rectangle_solid_angle(0.0, a / d, 0.0, b / d))
-
-
 def window_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Horizontal width axis and in-plane 'up' axis of a window with unit ``normal`` (3,).
 
@@ -162,35 +111,3 @@ def window_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     a /= np.linalg.norm(a)
     up = np.cross(normal, a)
     return a, up / np.linalg.norm(up)
-
-
-def offset_rectangle_solid_angle(x0, x1, y0, y1) -> np.ndarray:
-    """Solid angle of rectangles [x0, x1] x [y0, y1] on the plane at unit distance from the viewpoint.
-
-    Coordinates are measured in that plane from the foot of the perpendicular through the
-    viewpoint (gnomonic coordinates), so a rectangle [x0, x1] x [y0, y1] on a plane at distance
-    d is the same as [x0/d, x1/d] x [y0/d, y1/d] here. Exact, by inclusion-exclusion over the
-    corner formula F(x, y) = atan(x y / sqrt(1 + x^2 + y^2)), which is odd in x and in y.
-
-    Parameters
-    ----------
-    x0, x1, y0, y1 : array_like [-] (lengths divided by the distance), x0 <= x1, y0 <= y1
-
-    Returns
-    -------
-    ndarray [sr]
-
-    References
-    ----------
-    Mathar, R. J. (2015), "Solid angle of a rectangular plate", Max-Planck Institute for
-    Astronomy, Heidelberg, eq. (23) (the corner case) and its sums over sub-rectangles.
-    """
-    def f(x, y):
-        return np.arctan(x * y / np.sqrt(1.0 + x * x + y * y))
-
-    return f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0)
-
-
-def unit(vectors: np.ndarray) -> np.ndarray:
-    """Rows of ``vectors`` (n, 3) scaled to unit length."""
-    return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)

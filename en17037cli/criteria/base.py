@@ -1,0 +1,80 @@
+"""What a criterion of EN 17037 is to the pipeline: a small interface every check implements.
+
+A criterion (view out, exposure to sunlight; daylight provision and glare protection may follow)
+says whether a project asks for it, which ray groups it traces against, which input problems it
+can find without a ray (``validate`` runs these), how much work a room is (for progress), how to
+assess one room into a typed result, and its part of report.json. Adding a criterion touches its
+own folder, :mod:`en17037cli.standard` and one line of :data:`en17037cli.criteria.CRITERIA`.
+"""
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from en17037cli.project.settings import Project
+from en17037cli.raytrace import RayEngine
+from en17037cli.scene.model import Room, Scene
+
+
+@dataclass
+class Context:
+    """What every criterion sees of a run: the project, its scene and the shared ray engine.
+
+    cache : per-criterion state built once per run (e.g. lookups over the scene's faces)
+    """
+
+    project: Project
+    scene: Scene
+    engine: RayEngine
+    cache: dict[str, Any] = field(default_factory=dict)
+
+
+class Criterion(ABC):
+    """One criterion of the standard (clause 5.2, 5.3, ...)."""
+
+    #: key of the criterion in report.json and on the command line (``--only``)
+    name: str = ""
+    #: how reports title it
+    title: str = ""
+
+    @abstractmethod
+    def settings(self, project: Project):
+        """The criterion's settings, or None when the project does not ask for it."""
+
+    @abstractmethod
+    def ray_groups(self, scene: Scene) -> list[str]:
+        """Names of the engine groups the criterion queries (built once, before any room)."""
+
+    def check_inputs(self, project: Project, scene: Scene) -> list[str]:
+        """Input problems found without tracing a ray (one line each); ``validate`` reports them."""
+        return []
+
+    @abstractmethod
+    def plan(self, ctx: Context, room: Room) -> Any:
+        """What the criterion will compute for ``room`` (viewpoints, say); ``size(plan)`` counts it."""
+
+    def size(self, plan) -> int:
+        """Units of work of a plan, for a progress bar."""
+        return 1
+
+    @abstractmethod
+    def assess(self, ctx: Context, room: Room, plan, progress: Callable[[int], None] | None = None):
+        """The criterion's typed result for one room."""
+
+    @abstractmethod
+    def level(self, result) -> int:
+        """Level index (see :data:`~en17037cli.standard.LEVELS`) a result reaches."""
+
+    def required(self, room: Room) -> str:
+        """The level ``room`` must reach for this criterion."""
+        return getattr(room.spec.requirements, self.name)
+
+    def notes(self, result) -> list[str]:
+        """Notes the result carries for the report."""
+        return list(getattr(result, "notes", []))
+
+    @abstractmethod
+    def report(self, ctx: Context, room: Room, result) -> dict:
+        """The criterion's section of a room in report.json."""

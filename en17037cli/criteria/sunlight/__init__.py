@@ -1,0 +1,50 @@
+"""EN 17037 clause 5.3, Exposure to sunlight: hours of sun seen from point P on the assessed day.
+
+* point P (Annex A.3): :mod:`.point_p`; the sun: :mod:`.solar_position` (NREL SPA)
+* visibility from P: :mod:`.visibility`; the days and their intervals: :mod:`.intervals`
+* per room: :mod:`.assess` into :mod:`.results`; report section: :mod:`.report`
+"""
+from __future__ import annotations
+
+import zoneinfo
+
+from en17037cli.criteria.base import Context, Criterion
+from en17037cli.criteria.sunlight.assess import assess_room
+from en17037cli.criteria.sunlight.report import sunlight_section
+from en17037cli.criteria.sunlight.results import SunlightResult
+from en17037cli.project.settings import Location, Project, SunSettings
+from en17037cli.scene.model import room_window_group
+
+
+class SunlightCriterion(Criterion):
+    name = "sunlight"
+    title = "exposure to sunlight (5.3)"
+
+    def settings(self, project: Project) -> SunSettings | None:
+        return project.sunlight
+
+    def _settings(self, ctx: Context) -> tuple[SunSettings, Location]:
+        p = ctx.project
+        if p.sunlight is None or p.location is None:
+            raise ValueError("the sunlight criterion runs only on projects with sunlight and location sections")
+        return p.sunlight, p.location
+
+    def ray_groups(self, scene):
+        return [room_window_group(r) for r in scene.rooms] + ["interior", "sun"]
+
+    def plan(self, ctx: Context, room):
+        return None
+
+    def assess(self, ctx: Context, room, plan, progress=None) -> SunlightResult:
+        settings, location = self._settings(ctx)
+        result = assess_room(ctx.engine, ctx.scene, room, settings, location, ctx.project.thresholds)
+        if progress:
+            progress(1)
+        return result
+
+    def level(self, result: SunlightResult) -> int:
+        return result.level
+
+    def report(self, ctx: Context, room, result: SunlightResult) -> dict:
+        settings, location = self._settings(ctx)
+        return sunlight_section(ctx.scene, room, result, self.required(room), settings, zoneinfo.ZoneInfo(location.timezone))

@@ -1,0 +1,59 @@
+"""The sunlight of a room (EN 17037 clause 5.3): point P per window, sun hours of every day, the assessed day."""
+from __future__ import annotations
+
+import numpy as np
+
+from en17037cli import standard
+from en17037cli.criteria.sunlight.intervals import day_bounds, visible_intervals
+from en17037cli.criteria.sunlight.point_p import point_p
+from en17037cli.criteria.sunlight.results import SunlightResult
+from en17037cli.criteria.sunlight.visibility import SunVisibility
+from en17037cli.errors import InputError
+from en17037cli.project.settings import Location, SunSettings
+from en17037cli.raytrace import RayEngine
+from en17037cli.scene.model import Room, Scene, room_window_group
+from en17037cli.standard import Thresholds
+
+
+def assessed_day(hours: np.ndarray, dates: list, date: str) -> int:
+    """Index of the day judged: ``worst`` (fewest hours), ``best`` (most) or the given MM-DD.
+
+    Ties go to the earliest day (argmin/argmax return the first).
+    """
+    if date == "worst":
+        return int(np.argmin(hours))
+    if date == "best":
+        return int(np.argmax(hours))
+    return [d.strftime("%m-%d") for d in dates].index(date)
+
+
+def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettings, location: Location,
+                thresholds: Thresholds) -> SunlightResult:
+    """Sunlight result of one room: P per window, every day's hours and intervals, assessed date and level."""
+    notes = []
+    explicit = room.spec.sun_points
+    if explicit is not None:
+        if len(explicit) != len(room.windows):
+            names = ", ".join(f"'{w.name}'" for w in room.windows)
+            raise InputError(f"room '{room.name}': sun_points has {len(explicit)} points for {len(room.windows)} windows ({names}); give one per window, in that order")
+        pts = scene.to_local(explicit)
+        depths = [None] * len(pts)
+        notes.append(f"room '{room.name}': point P given explicitly (rooms[].sun_points)")
+    else:
+        res = [point_p(engine, scene, room, w, settings) for w in room.windows]  # one per window
+        pts = np.array([r[0] for r in res])
+        depths = [r[1] for r in res]
+        for r in res:
+            notes.extend(r[2])
+    normals = np.array([w.normal for w in room.windows])
+    vis = SunVisibility(engine, pts, normals, room_window_group(room), location, settings, scene.true_north_deg)
+    dates, t0, t1 = day_bounds(settings.year, settings.period_start, settings.period_end, location.timezone)
+    step = settings.timestep_min * 60.0
+    intervals, err_s = visible_intervals(vis, t0, t1, step, settings.tolerance_s)
+    hours = np.array([float(np.sum(iv[:, 1] - iv[:, 0])) / 3600.0 for iv in intervals])
+    k = assessed_day(hours, dates, settings.date)
+    err_h = err_s / 3600.0
+    level = int(standard.level_from_value([hours[k]], thresholds.sunlight_hours)[0])
+    near = bool(standard.near_threshold([hours[k]], [err_h[k]], thresholds.sunlight_hours)[0])
+    return SunlightResult(points_local=pts, reveal_depths_m=depths, dates=dates, hours=hours, intervals=intervals,
+                          error_h=err_h, assessed_index=k, level=level, near_threshold=near, timestep_s=step, notes=notes)

@@ -1,0 +1,89 @@
+"""Point P of EN 17037 Annex A.3: where the sunlight of a window is judged."""
+from __future__ import annotations
+
+import numpy as np
+
+from en17037cli import standard
+from en17037cli.errors import InputError
+from en17037cli.geometry import window_axes
+from en17037cli.project.settings import SunSettings
+from en17037cli.raytrace import RayEngine
+from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene, Window
+
+#: Start of the reveal search, outside the glazing plane [m], and the lateral step beyond a jamb [m].
+REVEAL_PROBE_OUTSIDE_M = 0.01
+REVEAL_PROBE_BEYOND_JAMB_M = 0.02
+
+
+def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.ndarray, axis: np.ndarray, half_width: float, max_depth: float) -> float:
+    """Depth of the room-side plane of the opening behind the glazing plane [m].
+
+    Probes start just outside the glazing plane, 2 cm beyond each jamb (inside the wall, if it
+    has thickness), and run inwards along -normal through the interior faces; the deepest face
+    parallel to the window (|cos| > 0.9) crossed within ``max_depth`` is the wall's inner face.
+    Zero where the wall has no thickness or no wall flanks the window.
+
+    Parameters
+    ----------
+    start : (3,) point on the glazing plane at the horizontal centre [m]
+    normal, axis : (3,) outward normal and horizontal width axis (unit)
+    half_width, max_depth : float [m]
+    """
+    off = half_width + REVEAL_PROBE_BEYOND_JAMB_M
+    origins = np.array([start + off * axis, start - off * axis]) + REVEAL_PROBE_OUTSIDE_M * normal
+    dirs = np.tile(-normal, (2, 1))
+    travelled = np.zeros(2)
+    deepest = 0.0
+    for _ in range(4):  # a few crossings: outer face, inner face, beyond
+        face, t = engine.first_hit("interior", origins, dirs)
+        hit = face >= 0
+        if not hit.any():
+            break
+        v = scene.vertices[scene.triangles[np.maximum(face, 0)]]  # the two faces hit, not the whole scene
+        fn = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+        cos = np.abs(fn @ normal) / np.maximum(np.linalg.norm(fn, axis=1), 1e-30)
+        depth = travelled + np.where(hit, t, np.inf) - REVEAL_PROBE_OUTSIDE_M
+        ok = hit & (cos > 0.9) & (depth <= max_depth)
+        if ok.any():
+            deepest = max(deepest, float(depth[ok].max()))
+        step = np.where(hit, t, 0)
+        step = step + engine.restart_offset(origins + step[:, None] * dirs)
+        origins = origins + step[:, None] * dirs
+        travelled = travelled + step
+        if not np.any(hit & (depth <= max_depth)):
+            break
+    return max(deepest, 0.0)
+
+
+def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, settings: SunSettings) -> tuple[np.ndarray, float, list]:
+    """Point P of a window (local frame) by EN 17037 Annex A.3, its reveal depth [m] and notes.
+
+    On the room-side plane of the opening (see :func:`reveal_depth`), at the horizontal centre of
+    the window, at height max(floor + 1.2 m, sill + 0.3 m).
+    """
+    n = window.normal
+    a, up = window_axes(n)
+    verts = window.triangles.reshape(-1, 3)
+    s = verts @ a
+    c = window.centroid
+    centre = c + (0.5 * (s.min() + s.max()) - c @ a) * a
+    z_p = max(room.floor_z + standard.SUN_POINT_MIN_ABOVE_FLOOR_M, window.sill_z + standard.SUN_POINT_MIN_ABOVE_SILL_M)
+    if z_p > window.head_z + 1e-9:
+        raise InputError(
+            f"room '{room.name}', window '{window.name}': point P at max(floor + 1.2 m, sill + 0.3 m) = "
+            f"{z_p - room.floor_z:.3f} m above the floor lies above the window head ({window.head_z - room.floor_z:.3f} m); "
+            "give rooms[].sun_points explicitly")
+    if abs(up[2]) > 1e-9:
+        q = centre + ((z_p - centre[2]) / up[2]) * up
+    else:
+        q = centre
+    depth = reveal_depth(engine, scene, q, n, a, 0.5 * (s.max() - s.min()), settings.max_reveal_depth_m)
+    notes = []
+    if depth < GLAZING_OFFSET_M:  # no reveal, or only the wall's own plane found again through round-off
+        depth = 0.0
+    if depth > 0:
+        p = q - depth * n
+    else:
+        p = q - GLAZING_OFFSET_M * n
+        notes.append(f"room '{room.name}', window '{window.name}': P lies on the glazing plane (no reveal found) and was moved {GLAZING_OFFSET_M * 1000:.0f} mm into the room")
+    return p, depth, notes

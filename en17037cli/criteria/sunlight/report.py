@@ -1,0 +1,47 @@
+"""The sunlight criterion's part of report.json: per room, per window and per day."""
+from __future__ import annotations
+
+import numpy as np
+
+from en17037cli import standard
+from en17037cli.criteria.sunlight.results import SunlightResult
+from en17037cli.project.settings import SunSettings
+from en17037cli.report.numbers import iso_time, json_number, json_xyz
+from en17037cli.scene.model import Room, Scene
+from en17037cli.standard import LEVELS
+
+#: How the sun hours are computed and what their error estimate means (repeated in the report).
+SUN_METHOD = ("sun position by NREL SPA (Reda and Andreas 2004); visibility sampled every sunlight.timestep_min, each "
+              "change located by bisection to sunlight.tolerance_s; error = sum of remaining half-brackets; intervals "
+              "shorter than the timestep may be missed")
+
+
+def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: str, settings: SunSettings, tz) -> dict:
+    """The ``sunlight`` section of a room in report.json (see ``schemas/report.schema.json``)."""
+    k = res.assessed_index
+    level = LEVELS[res.level]
+    windows = []
+    pw = scene.to_world(res.points_local)
+    for w, p, depth in zip(room.windows, pw, res.reveal_depths_m):
+        windows.append({"name": w.name, "point_p_m": json_xyz(p), "reveal_depth_m": None if depth is None else json_number(depth, 4),
+                        "point_p_source": "explicit" if depth is None else "EN 17037 A.3 rule"})
+    days = []
+    for d, h, iv, e in zip(res.dates, res.hours, res.intervals, res.error_h):
+        days.append({"date": d.isoformat(), "hours": json_number(h, 4), "error_h": json_number(e, 5),
+                     "intervals": [[iso_time(a, tz), iso_time(b, tz)] for a, b in iv]})
+    return {
+        "level": level,
+        "required": required,
+        "status": standard.status(level, required),
+        "assessed_date": res.dates[k].isoformat(),
+        "hours": json_number(res.hours[k], 4),
+        "near_threshold": res.near_threshold,
+        "error_estimates": {
+            "hours_error_h": json_number(res.error_h[k], 5),
+            "max_hours_error_h": json_number(float(np.max(res.error_h)), 5),
+            "shortest_interval_always_resolved_min": json_number(settings.timestep_min, 4),
+            "method": SUN_METHOD,
+        },
+        "windows": windows,
+        "days": days,
+    }

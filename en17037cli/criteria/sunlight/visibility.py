@@ -1,0 +1,41 @@
+"""Whether the sun is seen from the points P of a room, at given times."""
+from __future__ import annotations
+
+import numpy as np
+
+from en17037cli.criteria.sunlight.solar_position import direction_vectors, solar_position
+from en17037cli.project.settings import Location, SunSettings
+from en17037cli.raytrace import RayEngine
+
+
+class SunVisibility:
+    """Visibility of the sun from the P points of one room, vectorised over times."""
+
+    def __init__(self, engine: RayEngine, points: np.ndarray, normals: np.ndarray, window_group: str, location: Location,
+                 settings: SunSettings, true_north_deg: float):
+        self.engine, self.points, self.normals = engine, points, normals
+        self.window_group = window_group
+        self.loc, self.settings, self.north = location, settings, true_north_deg
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        """(n,) bool: the sun is seen from P through a window of the room at unix times ``t`` [s]."""
+        c = self.settings
+        elev, azim = solar_position(t, self.loc.latitude, self.loc.longitude, self.loc.elevation_m,
+                                    c.pressure_mbar, c.temperature_c, refraction=c.refraction)
+        up = elev >= c.min_altitude_deg
+        seen = np.zeros(len(t), dtype=bool)
+        if not up.any():
+            return seen
+        d = direction_vectors(elev, azim, self.north)
+        for p, n in zip(self.points, self.normals):  # one pass per window of the room
+            cand = np.flatnonzero(up & ~seen & (d @ n > 0))  # no ray below the altitude or behind the window
+            if len(cand) == 0:
+                continue
+            o = np.broadcast_to(p, (len(cand), 3))
+            face, _ = self.engine.first_hit(self.window_group, o, d[cand])
+            cand = cand[face >= 0]
+            if len(cand) == 0:
+                continue
+            blocked = self.engine.occluded("sun", np.broadcast_to(p, (len(cand), 3)), d[cand])
+            seen[cand[~blocked]] = True
+        return seen

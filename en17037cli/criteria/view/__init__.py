@@ -1,0 +1,51 @@
+"""EN 17037 clause 5.2, View out: horizontal sight angle, outside distance and view layers.
+
+* viewpoints: :mod:`.viewpoints`; the windows as sampled: :mod:`.frames`, :mod:`.gnomonic`
+* solid angles of the layers: :mod:`.solid_angle`; sight angle: :mod:`.sight_angle`;
+  outside distance: :mod:`.distance`; where a ray goes: :mod:`.rays`
+* per point and per room: :mod:`.assess` into :mod:`.results`; report section: :mod:`.report`
+"""
+from __future__ import annotations
+
+from en17037cli.criteria.base import Context, Criterion
+from en17037cli.criteria.view.assess import assess_room
+from en17037cli.criteria.view.rays import ViewRays
+from en17037cli.criteria.view.report import view_section
+from en17037cli.criteria.view.results import ViewResult
+from en17037cli.criteria.view.viewpoints import viewpoints
+from en17037cli.project.settings import Project, ViewSettings
+from en17037cli.scene.model import room_window_group
+
+
+class ViewCriterion(Criterion):
+    name = "view"
+    title = "view out (5.2)"
+
+    def settings(self, project: Project) -> ViewSettings | None:
+        return project.view
+
+    def _settings(self, ctx: Context) -> ViewSettings:
+        if ctx.project.view is None:
+            raise ValueError("the view criterion runs only on projects with a view section")
+        return ctx.project.view
+
+    def ray_groups(self, scene):
+        return [room_window_group(r) for r in scene.rooms] + ["opaque"]
+
+    def plan(self, ctx: Context, room):
+        return viewpoints(ctx.scene, room, self._settings(ctx))
+
+    def size(self, plan) -> int:
+        groups, _ = plan
+        return sum(len(p) for _, p in groups)
+
+    def assess(self, ctx: Context, room, plan, progress=None) -> ViewResult:
+        if "view_rays" not in ctx.cache:
+            ctx.cache["view_rays"] = ViewRays(ctx.engine, ctx.scene)
+        return assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress)
+
+    def level(self, result: ViewResult) -> int:
+        return result.level
+
+    def report(self, ctx: Context, room, result: ViewResult) -> dict:
+        return view_section(ctx.scene, result, self.required(room), self._settings(ctx))

@@ -1,0 +1,96 @@
+"""The view of a room: every viewpoint's quantities, levels and error estimates, then the room's levels."""
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from en17037cli import standard
+from en17037cli.criteria.view.frames import RoomGeometry, room_geometry
+from en17037cli.criteria.view.gnomonic import patches
+from en17037cli.criteria.view.rays import ViewRays
+from en17037cli.criteria.view.results import LAYER_NAMES, EyeHeightResult, ViewPoints, ViewResult, concat
+from en17037cli.criteria.view.sight_angle import horizontal
+from en17037cli.criteria.view.solid_angle import solid_angles
+from en17037cli.project.settings import ViewSettings
+from en17037cli.scene.model import Room, Scene
+from en17037cli.standard import Thresholds
+
+#: Base cells per chunk of viewpoints (bounds memory; each chunk is vectorised).
+CELLS_PER_CHUNK = 300_000
+
+
+def chunks(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> list[slice]:
+    """Slices of ``points`` holding at most about :data:`CELLS_PER_CHUNK` base cells each."""
+    P = patches(rg, points, np.radians(settings.angular_resolution_deg))
+    per_point = np.bincount(P.pt, P.na * P.nb, len(points))
+    cum = np.cumsum(per_point)
+    cuts = [0]
+    while cuts[-1] < len(points):
+        nxt = int(np.searchsorted(cum, (cum[cuts[-1] - 1] if cuts[-1] else 0) + CELLS_PER_CHUNK, side="right"))
+        cuts.append(min(max(nxt, cuts[-1] + 1), len(points)))
+    return [slice(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings,
+                  thresholds: Thresholds, progress: Callable[[int], None] | None = None) -> ViewPoints | None:
+    """Every per-point quantity, level and error estimate for one set of viewpoints (vectorised).
+
+    Parameters
+    ----------
+    points : (p, 3) float [m], local frame
+
+    Returns
+    -------
+    ViewPoints, or None without points
+    """
+    solid, sight = [], []
+    for sl in chunks(rg, points, settings):  # chunks bound memory; each chunk is vectorised
+        chunk = points[sl]
+        solid.append(solid_angles(view_rays, rg, chunk, settings))
+        sight.append(horizontal(view_rays, rg, chunk, settings))
+        if progress:
+            progress(len(chunk))
+    if not solid:
+        return None
+    sa, hz = concat(solid), concat(sight)
+    src = hz if settings.distance_method == "horizontal" else sa
+    dist, gap = src.distance_m, src.distance_gap_m
+    thr = settings.layer_threshold_sr
+    visible = {k: standard.layer_visible(sa.sr[k], thr) for k in LAYER_NAMES}
+    lv = {
+        "horizontal_sight_angle": standard.level_from_value(hz.angle_deg, thresholds.horizontal_sight_angle_deg),
+        "outside_distance": standard.level_from_value(np.where(np.isnan(dist), -np.inf, dist), thresholds.outside_distance_m),
+        "layers": standard.level_from_layers(visible["sky"], visible["landscape"], visible["ground"]),
+    }
+    near = (
+        standard.near_threshold(hz.angle_deg, hz.angle_err_deg, thresholds.horizontal_sight_angle_deg)
+        | standard.near_threshold(dist, gap, thresholds.outside_distance_m)
+        | np.any([standard.near_threshold(sa.sr[k], sa.err_sr[k], [thr]) for k in LAYER_NAMES], axis=0)
+    )
+    return ViewPoints(solid=sa, sight=hz, distance_m=dist, distance_gap_m=gap, visible=visible, level_by_criterion=lv,
+                      level=standard.point_view_level(*lv.values()), near=near)
+
+
+def assess_room(view_rays: ViewRays, scene: Scene, room: Room, settings: ViewSettings, thresholds: Thresholds,
+                groups: tuple[list, list], progress: Callable[[int], None] | None = None) -> ViewResult:
+    """View result of one room: per eye height, per point values, shares and levels.
+
+    Parameters
+    ----------
+    groups : the room's :func:`~en17037cli.criteria.view.viewpoints.viewpoints` (made by the caller,
+        which sizes a progress bar with them)
+    """
+    rg = room_geometry(scene, room, settings.frame_depth_m)
+    planned, notes = groups
+    eye = []
+    for h, pts in planned:  # one pass per eye height (two by default)
+        values = assess_points(view_rays, rg, pts, settings, thresholds, progress)
+        levels, share = {}, {}
+        for crit in standard.VIEW_CRITERIA:
+            levels[crit], share[crit] = standard.room_level([] if values is None else values.level_by_criterion[crit],
+                                                            settings.area_fraction)
+        _, share["view"] = standard.room_level([] if values is None else values.level, settings.area_fraction)
+        eye.append(EyeHeightResult(eye_height_m=h, points_local=pts, values=values, level=standard.view_level(levels.values()),
+                                   level_by_criterion=levels, share_by_level=share))
+    return ViewResult(eye_heights=eye, level=standard.view_level(e.level for e in eye), notes=notes)

@@ -1,0 +1,136 @@
+"""Gnomonic sampling grids of windows seen from viewpoints.
+
+A window seen from a point is sampled in its own plane on a grid uniform in the two gnomonic
+angles alpha = atan(X), beta = atan(Y) (a cube-map face aligned with the window), so the number
+of cells follows the window's solid angle, plus a grid line through the image of every vertex of
+the window's frame, so thin mullions and transoms fill whole cells.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from en17037cli.criteria.view.frames import RoomGeometry
+
+#: Samples on a window's outline are moved this fraction of a cell inwards, so that no ray is aimed
+#: exactly at the line where glazing and wall meet.
+EDGE_INSET = 1e-3
+#: A window is seen only from points at least this far in front of its plane [m].
+MIN_PLANE_DISTANCE_M = 1e-6
+
+
+@dataclass
+class Patches:
+    """The room's windows as seen from each viewpoint: one patch per (point, window in front of it).
+
+    A patch is sampled on a tensor grid in the angles alpha = atan(X), beta = atan(Y) of the
+    gnomonic coordinates X = (x - x0) / d, Y = (y - y0) / d of the window's plane (d: distance
+    of the point from the plane, (x0, y0): foot of the perpendicular): ``na`` x ``nb`` uniform
+    cells of at most ``resolution`` each way, plus a grid line through the image of every vertex
+    of the window's frame (:attr:`~en17037cli.view_math.WindowFrame.frame_xys`), so that thin
+    mullions and transoms fill whole cells instead of slipping between samples.
+    """
+
+    pt: np.ndarray
+    win: np.ndarray
+    d: np.ndarray  # [m]
+    x0: np.ndarray  # [m]
+    y0: np.ndarray  # [m]
+    a0: np.ndarray  # [rad]
+    a1: np.ndarray
+    b0: np.ndarray
+    b1: np.ndarray
+    na: np.ndarray
+    nb: np.ndarray
+    frame_pt: tuple = ()  # per axis: patch of each frame breakpoint
+    frame_val: tuple = ()  # per axis: the breakpoint [rad]
+
+    def __len__(self):
+        return len(self.pt)
+
+
+def patches(rg: RoomGeometry, points: np.ndarray, resolution_rad: float) -> Patches:
+    """:class:`Patches` of ``points`` (p, 3) [m] for the room's windows at ``resolution_rad``."""
+    parts, fa, fb = [], [], []
+    offset = 0
+    for f in rg.frames:  # one pass per window of the room, vectorised over points
+        r = points - f.origin
+        d = -(r @ f.n)
+        x0, y0 = r @ f.u, r @ f.v
+        ok = np.flatnonzero(d > MIN_PLANE_DISTANCE_M)
+        d, x0, y0 = d[ok], x0[ok], y0[ok]
+        a0, a1 = np.arctan((f.xmin - x0) / d), np.arctan((f.xmax - x0) / d)
+        b0, b1 = np.arctan((f.ymin - y0) / d), np.arctan((f.ymax - y0) / d)
+        na = np.maximum(np.ceil((a1 - a0) / resolution_rad - 1e-9), 1).astype(np.int64)
+        nb = np.maximum(np.ceil((b1 - b0) / resolution_rad - 1e-9), 1).astype(np.int64)
+        parts.append((ok, np.full(len(ok), f.index), d, x0, y0, a0, a1, b0, b1, na, nb))
+        e = f.frame_xys
+        if len(e) and len(ok):  # images of the frame's vertices, seen through the glazing plane
+            depth = e[None, :, 2] + d[:, None]
+            pi, vi = np.nonzero(depth > MIN_PLANE_DISTANCE_M)
+            fa.append((pi + offset, np.arctan((e[vi, 0] - x0[pi]) / depth[pi, vi])))
+            fb.append((pi + offset, np.arctan((e[vi, 1] - y0[pi]) / depth[pi, vi])))
+        offset += len(ok)
+    cols = [np.concatenate(c) for c in zip(*parts)]
+    empty = (np.zeros(0, np.int64), np.zeros(0))
+    fa = [np.concatenate(c) for c in zip(*fa)] if fa else empty
+    fb = [np.concatenate(c) for c in zip(*fb)] if fb else empty
+    return Patches(*cols, frame_pt=(fa[0], fb[0]), frame_val=(fa[1], fb[1]))
+
+
+#: Grid lines of a patch closer than this are one line [rad].
+LINE_MERGE_RAD = 1e-9
+
+
+def grid_lines(lo, hi, n, extra_pt, extra_val):
+    """Sorted grid lines of each patch and the sample columns on them.
+
+    Lines: ``n + 1`` uniform lines over [lo, hi] and the breakpoints strictly inside. Samples
+    sit on uniform lines; the two outer lines are sampled ``EDGE_INSET`` of a cell inwards, and a
+    breakpoint line is sampled just beside it on both sides, so no ray is aimed exactly at an
+    edge of the glazing or of the frame.
+
+    Returns
+    -------
+    line_ptr : (m + 1,) int, lines of patch i are line_val[line_ptr[i]:line_ptr[i + 1]]
+    line_val : (L,) float [rad]
+    lcol, rcol : (L,) int, the sample column just left / right of each line (global index)
+    col_ptr : (m + 1,) int; col_val : (C,) float [rad]
+    """
+    m = len(lo)
+    cnt = n + 1
+    pp = np.repeat(np.arange(m), cnt)
+    k = np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    val = np.where(k == n[pp], hi[pp], lo[pp] + ((hi - lo) / n)[pp] * k)
+    inside = (extra_val > lo[extra_pt] + LINE_MERGE_RAD) & (extra_val < hi[extra_pt] - LINE_MERGE_RAD)
+    pt = np.concatenate([pp, extra_pt[inside]])
+    val = np.concatenate([val, extra_val[inside]])
+    brk = np.concatenate([np.zeros(len(pp), bool), np.ones(int(inside.sum()), bool)])
+    order = np.lexsort((val, pt))
+    pt, val, brk = pt[order], val[order], brk[order]
+    dup = np.r_[False, (pt[1:] == pt[:-1]) & (val[1:] - val[:-1] < LINE_MERGE_RAD)]
+    grp = np.cumsum(~dup) - 1
+    ng = grp[-1] + 1 if len(grp) else 0
+    is_brk = np.bincount(grp, brk.astype(float), ng) > 0
+    is_uni = np.bincount(grp, (~brk).astype(float), ng) > 0
+    pt, val = pt[~dup], val[~dup]
+    line_ptr = np.concatenate([[0], np.cumsum(np.bincount(pt, minlength=m))])
+    first = np.zeros(len(pt), bool)
+    first[line_ptr[:-1]] = True
+    last = np.zeros(len(pt), bool)
+    last[line_ptr[1:] - 1] = True
+    prev_gap = np.r_[0.0, np.diff(val)]
+    next_gap = np.r_[np.diff(val), 0.0]
+    two = is_brk & ~is_uni & ~first & ~last  # sampled on both sides
+    ncol = np.where(two, 2, 1)
+    cstart = np.concatenate([[0], np.cumsum(ncol)[:-1]])
+    col_val = np.empty(int(ncol.sum()))
+    left_val = np.where(last, val - EDGE_INSET * prev_gap, np.where(two, val - EDGE_INSET * prev_gap, val))
+    right_val = np.where(first, val + EDGE_INSET * next_gap, np.where(two, val + EDGE_INSET * next_gap, val))
+    col_val[cstart] = np.where(first, right_val, left_val)
+    col_val[cstart[two] + 1] = right_val[two]
+    lcol = cstart
+    rcol = cstart + (ncol - 1)
+    col_ptr = np.concatenate([[0], np.cumsum(np.bincount(pt, ncol, m).astype(np.int64))])
+    return line_ptr, val, lcol, rcol, col_ptr, col_val

@@ -1,0 +1,85 @@
+"""The view criterion's part of report.json: per room, per eye height, per point."""
+from __future__ import annotations
+
+import numpy as np
+
+from en17037cli import standard
+from en17037cli.criteria.view.results import LAYER_NAMES, ViewResult
+from en17037cli.project.settings import ViewSettings
+from en17037cli.report.numbers import json_number, json_xyz
+from en17037cli.scene.model import Scene
+from en17037cli.standard import LEVELS, VIEW_CRITERIA
+
+#: How each view figure is computed and what its error estimate means (repeated in the report).
+VIEW_METHOD = {
+    "solid_angle_sr": "each window sampled per viewpoint on a grid uniform in the gnomonic angles of its plane, cells at "
+                      "most view.angular_resolution_deg each way plus a grid line through the image of every frame vertex "
+                      "(opaque faces within view.frame_depth_m of the glazing: mullions, transoms, reveals); each cell "
+                      "weighted by its exact solid angle and classified by the rays through its corners, shared with its "
+                      "neighbours; cells whose samples disagree split in four (at most view.refine_levels times) until each "
+                      "layer's error estimate is within max(view.solid_angle_rel_tolerance x value, "
+                      "view.solid_angle_abs_tolerance_sr); error = half the solid angle of the cells still mixed; features "
+                      "narrower than a cell and not part of a frame can be missed",
+    "horizontal_sight_angle_deg": "horizontal fan over the azimuths of the windows every view.horizontal_resolution_deg, "
+                                  "each change between leaving through a window and blocked located by bisection to "
+                                  "view.angle_tolerance_deg; error = sum of remaining bracket widths and end insets",
+    "outside_distance_m": "weighted statistic (view.distance_statistic) of the distance from the glazing plane to the "
+                          "first landscape face, perpendicular to the window; error = gap to the neighbouring sampled distance",
+}
+
+
+def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSettings) -> dict:
+    """The ``view`` section of a room in report.json (see ``schemas/report.schema.json``)."""
+    eye_out = []
+    err = {"solid_angle_sr": 0.0, "horizontal_sight_angle_deg": 0.0, "outside_distance_m": 0.0}
+    for e in res.eye_heights:
+        v = e.values
+        pts_world = scene.to_world(e.points_local)
+        points = []
+        for i in range(len(pts_world)):  # formatting each point's record
+            dist = v.distance_m[i]
+            unob = bool(np.isinf(dist) and dist > 0)
+            sa_err = {k: json_number(v.solid.err_sr[k][i]) for k in LAYER_NAMES}
+            err["solid_angle_sr"] = max(err["solid_angle_sr"], *[x for x in sa_err.values()])
+            err["horizontal_sight_angle_deg"] = max(err["horizontal_sight_angle_deg"], float(v.sight.angle_err_deg[i]))
+            if np.isfinite(v.distance_gap_m[i]):
+                err["outside_distance_m"] = max(err["outside_distance_m"], float(v.distance_gap_m[i]))
+            points.append({
+                "point": json_xyz(pts_world[i]),
+                "horizontal_sight_angle_deg": json_number(v.sight.angle_deg[i], 4),
+                "horizontal_sight_angle_error_deg": json_number(v.sight.angle_err_deg[i], 6),
+                "outside_distance_m": None if unob else json_number(dist, 4),
+                "outside_distance_unobstructed": unob,
+                "outside_distance_error_m": json_number(v.distance_gap_m[i], 4),
+                "window_solid_angle_sr": json_number(v.solid.sr["sky"][i] + v.solid.sr["landscape"][i] + v.solid.sr["ground"][i]),
+                "glazing_solid_angle_sr": json_number(v.solid.glazing_sr[i]),
+                "solid_angle_sr": {k: json_number(v.solid.sr[k][i]) for k in LAYER_NAMES},
+                "solid_angle_error_sr": sa_err,
+                "layers": [k for k in LAYER_NAMES if v.visible[k][i]],
+                "level_by_criterion": {c: LEVELS[v.level_by_criterion[c][i]] for c in VIEW_CRITERIA},
+                "level": LEVELS[v.level[i]],
+                "near_threshold": bool(v.near[i]),
+            })
+        eye_out.append({
+            "eye_height_m": json_number(e.eye_height_m, 3),
+            "level": LEVELS[e.level],
+            "level_by_criterion": {k: LEVELS[x] for k, x in e.level_by_criterion.items()},
+            "share_by_level": {c: {k: json_number(x, 4) for k, x in sh.items()} for c, sh in e.share_by_level.items()},
+            "points_near_threshold": int(np.count_nonzero(v.near)) if len(points) else 0,
+            "points": points,
+        })
+    level = LEVELS[res.level]
+    return {
+        "level": level,
+        "required": required,
+        "status": standard.status(level, required),
+        "error_estimates": {
+            "max_solid_angle_error_sr": json_number(err["solid_angle_sr"]),
+            "max_horizontal_sight_angle_error_deg": json_number(err["horizontal_sight_angle_deg"], 6),
+            "max_outside_distance_error_m": json_number(err["outside_distance_m"], 4),
+            "smallest_feature_resolved_deg": {"solid_angle": settings.angular_resolution_deg,  # frames: exactly
+                                              "horizontal_sight_angle": settings.horizontal_resolution_deg},
+            "method": VIEW_METHOD,
+        },
+        "eye_heights": eye_out,
+    }

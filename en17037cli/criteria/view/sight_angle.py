@@ -1,0 +1,167 @@
+"""Horizontal sight angle (EN 17037 clause 5.2): the angle of the horizontal fan at eye height that
+leaves the room through its windows.
+
+A fan over the azimuths in which the windows lie (:func:`fan_intervals`),
+``horizontal_resolution_deg`` apart; every change between "leaves through a window" and "blocked"
+is located by bisection to ``angle_tolerance_deg``. Error estimate: the remaining bracket widths
+plus the end insets, summed (a bound).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from en17037cli.bisection import bisect_transitions
+from en17037cli.criteria.view.distance import horizontal_distance
+from en17037cli.criteria.view.frames import RoomGeometry
+from en17037cli.criteria.view.gnomonic import MIN_PLANE_DISTANCE_M
+from en17037cli.criteria.view.rays import BLOCKED, ViewRays
+from en17037cli.criteria.view.results import SightAngles
+from en17037cli.project.settings import ViewSettings
+
+
+def fan_intervals(rg: RoomGeometry, points: np.ndarray):
+    """Azimuth intervals in which horizontal rays from each point meet a window of the room, merged.
+
+    Each window triangle is cut by the horizontal plane through the point (half-open rule, so a
+    vertex on the plane is not counted twice); the cut is seen under an azimuth interval, shorter
+    than 180 degrees, from points in front of the window. Intervals are merged per point;
+    intervals crossing azimuth 2 pi are split there.
+
+    Returns
+    -------
+    pt : (q,) int; start : (q,) float [rad] in [0, 2 pi); width : (q,) float [rad]
+    """
+    tri, tw = rg.triangles, rg.triangle_window
+    s = tri[None, :, :, 2] - points[:, None, None, 2]  # (p, k, 3) height of each vertex above the eye
+    ends = []
+    for a, b in ((0, 1), (1, 2), (2, 0)):  # the three edges of every triangle
+        sa, sb = s[..., a], s[..., b]
+        cross = (sa <= 0) != (sb <= 0)
+        t = sa / np.where(cross, sa - sb, 1.0)
+        xy = tri[None, :, a, :2] + t[..., None] * (tri[None, :, b, :2] - tri[None, :, a, :2])
+        ends.append((cross, xy))
+    flags = np.stack([e[0] for e in ends], axis=-1)  # (p, k, 3)
+    xy = np.stack([e[1] for e in ends], axis=-2)  # (p, k, 3, 2)
+    two = flags.sum(axis=-1) == 2
+    first = np.argmax(flags, axis=-1)
+    second = 2 - np.argmax(flags[..., ::-1], axis=-1)
+    pi, ki = np.nonzero(two)
+    e1 = xy[pi, ki, first[pi, ki]] - points[pi, :2]
+    e2 = xy[pi, ki, second[pi, ki]] - points[pi, :2]
+    n = rg.frame_array("n")[tw[ki]]
+    front = np.einsum("ij,ij->i", rg.frame_array("origin")[tw[ki]] - points[pi], n) > MIN_PLANE_DISTANCE_M
+    pi, e1, e2 = pi[front], e1[front], e2[front]
+    t1, t2 = np.arctan2(e1[:, 1], e1[:, 0]), np.arctan2(e2[:, 1], e2[:, 0])
+    delta = (t2 - t1 + np.pi) % (2 * np.pi) - np.pi
+    start = np.where(delta >= 0, t1, t2) % (2 * np.pi)
+    width = np.abs(delta)
+    keep = width > 0
+    pi, start, width = pi[keep], start[keep], width[keep]
+    over = start + width - 2 * np.pi
+    wrap = over > 0
+    pi = np.concatenate([pi, pi[wrap]])
+    start, width = np.concatenate([start, np.zeros(wrap.sum())]), np.concatenate([np.where(wrap, 2 * np.pi - start, width), over[wrap]])
+    # merge per point: sort by (point, start), cumulative maximum of the ends in 8-rad lanes per point
+    key = pi * 8.0 + start
+    order = np.argsort(key, kind="stable")
+    key, end = key[order], key[order] + width[order]
+    run_end = np.maximum.accumulate(end)
+    new = np.r_[True, key[1:] > run_end[:-1] + 1e-12]
+    g0 = np.flatnonzero(new)
+    if len(g0) == 0:
+        return np.zeros(0, np.int64), np.zeros(0), np.zeros(0)
+    g_end = np.maximum.reduceat(end, g0)
+    pt = pi[order][g0]
+    return pt, key[g0] - pt * 8.0, g_end - key[g0]
+
+
+#: An eye this close to the height of a window's sill or head looks along that edge: its fan is
+#: taken this far inside the window instead [m], so the result is the limit from inside.
+EDGE_HEIGHT_M = 1e-6
+
+
+def fan_heights(rg: RoomGeometry, points: np.ndarray) -> np.ndarray:
+    """Points with the eye moved :data:`EDGE_HEIGHT_M` inside a window whose sill or head lies within that distance."""
+    out = points.copy()
+    for k in range(len(rg.frames)):  # one pass per window, vectorised over points
+        z = rg.triangles[rg.triangle_window == k][..., 2]
+        lo, hi = z.min(), z.max()
+        if hi - lo <= 2 * EDGE_HEIGHT_M:
+            continue
+        out[np.abs(out[:, 2] - lo) <= EDGE_HEIGHT_M, 2] = lo + EDGE_HEIGHT_M
+        out[np.abs(out[:, 2] - hi) <= EDGE_HEIGHT_M, 2] = hi - EDGE_HEIGHT_M
+    return out
+
+
+def horizontal(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> SightAngles:
+    """Horizontal sight angle and horizontal outside distance from each point.
+
+    Rays are traced only towards the windows: over each merged azimuth interval of
+    :func:`fan_intervals`, at most ``horizontal_resolution_deg`` apart, the two end rays moved
+    half of ``angle_tolerance_deg`` inwards; every change between "leaves" and "blocked" is then
+    located by bisection to ``angle_tolerance_deg``. An eye at a window's sill or head height is
+    moved :data:`EDGE_HEIGHT_M` inside the window (:func:`fan_heights`).
+
+    Parameters
+    ----------
+    points : (p, 3) float [m], local frame
+
+    Returns
+    -------
+    SightAngles, per point; with the horizontal outside distance
+    (:func:`~en17037cli.criteria.view.distance.horizontal_distance`) for that distance method
+    """
+    p = len(points)
+    res = np.radians(settings.horizontal_resolution_deg)
+    tol = np.radians(settings.angle_tolerance_deg)
+    points = fan_heights(rg, points)
+    ipt, start, width = fan_intervals(rg, points)
+    inset = np.minimum(0.5 * tol, 0.25 * width)
+    n = np.maximum(np.ceil(width / res - 1e-9), 1).astype(np.int64)
+    cnt = n + 1
+    base = np.concatenate([[0], np.cumsum(cnt)[:-1]]).astype(np.int64)
+    iv = np.repeat(np.arange(len(ipt)), cnt)
+    k = np.arange(cnt.sum()) - base[iv]
+    lo_edge, hi_edge = start + inset, start + width - inset
+    ang = lo_edge[iv] + (hi_edge - lo_edge)[iv] * k / n[iv]
+    pidx = ipt[iv]
+
+    def trace(pt_idx, angles):
+        d = np.column_stack([np.cos(angles), np.sin(angles), np.zeros(len(angles))])
+        cls, wface, oface, odist, gdist = view_rays.through_windows(rg.group, points[pt_idx], d)
+        return cls != BLOCKED, wface, oface, odist, gdist, d
+
+    leave, wface, oface, odist, gdist, dirs = trace(pidx, ang)
+    # consecutive samples of one interval
+    a = np.flatnonzero(iv[:-1] == iv[1:]) if len(iv) > 1 else np.zeros(0, int)
+    b = a + 1
+    seg = ang[b] - ang[a]
+    both = leave[a] & leave[b]
+    trans = np.flatnonzero(leave[a] != leave[b])
+    lo, hi = ang[a][trans], ang[b][trans]
+    s_lo = leave[a][trans]
+    tp = pidx[a][trans]
+    n_iter = int(np.ceil(np.log2(res / tol))) if tol < res else 0
+    lo, hi = bisect_transitions(lambda key, x: trace(key, x)[0], tp, lo, hi, s_lo, iterations=n_iter)
+    x = 0.5 * (lo + hi)
+    part = np.where(s_lo, x - ang[a][trans], ang[b][trans] - x)  # leaving length inside the segment [rad]
+    # angular length owned by each sample (for the distance statistic): half of each fully
+    # leaving neighbour segment, the leaving part of a transition, the end insets
+    weight = np.zeros(len(ang))
+    np.add.at(weight, a, 0.5 * seg * both)
+    np.add.at(weight, b, 0.5 * seg * both)
+    np.add.at(weight, np.where(s_lo, a[trans], b[trans]), part)
+    ends = np.concatenate([base, base + n]) if len(base) else np.zeros(0, int)
+    weight[ends] += np.concatenate([inset, inset]) * leave[ends]
+    angle = np.bincount(pidx, weight, p)
+    dist = gap = None
+    if settings.distance_method == "horizontal":
+        dist, gap = horizontal_distance(view_rays, rg, points, pidx, dirs, leave, (wface, oface, odist, gdist), weight, p,
+                                        settings.distance_statistic)
+    return SightAngles(
+        angle_deg=np.degrees(angle),
+        # full bracket widths plus the end insets: a bound even where float32 rays blur the bracket ends
+        angle_err_deg=np.degrees(np.bincount(tp, hi - lo, p) + np.bincount(ipt, 2 * inset, p)),
+        transitions=np.bincount(tp, minlength=p),
+        rays=np.bincount(pidx, minlength=p) + n_iter * np.bincount(tp, minlength=p),
+        distance_m=dist, distance_gap_m=gap)

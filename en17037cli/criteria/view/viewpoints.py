@@ -1,0 +1,86 @@
+"""Viewpoints of a room: a grid over its utilised area at each eye height, or explicit points."""
+from __future__ import annotations
+
+import numpy as np
+
+from en17037cli.errors import InputError
+from en17037cli.project.settings import ViewSettings
+from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene
+
+
+def grid_points(utilised, spacing_m: float) -> np.ndarray:
+    """Grid of points over a polygon, aligned with its minimum-area bounding rectangle.
+
+    The grid is centred on the rectangle and symmetric, so rotating or mirroring the model
+    moves the grid with it. If no grid point falls inside (spacing larger than the area), the
+    polygon's centroid (or a point surely inside it) is used.
+
+    Parameters
+    ----------
+    utilised : shapely Polygon, local xy [m]
+    spacing_m : float [m]
+
+    Returns
+    -------
+    (n, 2) float [m]
+    """
+    import shapely
+
+    if utilised.is_empty or utilised.area <= 0:
+        return np.zeros((0, 2))
+    rect = np.asarray(shapely.minimum_rotated_rectangle(utilised).exterior.coords)[:4]
+    centre = rect.mean(axis=0)
+    e1, e2 = rect[1] - rect[0], rect[2] - rect[1]
+    l1, l2 = np.linalg.norm(e1), np.linalg.norm(e2)
+    e1, e2 = e1 / max(l1, 1e-12), e2 / max(l2, 1e-12)
+    n1, n2 = int(np.floor(l1 / spacing_m + 1e-9)) + 1, int(np.floor(l2 / spacing_m + 1e-9)) + 1
+    a = (np.arange(n1) - (n1 - 1) / 2) * spacing_m
+    b = (np.arange(n2) - (n2 - 1) / 2) * spacing_m
+    A, B = np.meshgrid(a, b, indexing="ij")
+    pts = centre + A.reshape(-1, 1) * e1 + B.reshape(-1, 1) * e2
+    inside = shapely.contains_xy(utilised.buffer(1e-9), pts[:, 0], pts[:, 1])
+    pts = pts[inside]
+    if len(pts) == 0:
+        c = utilised.centroid
+        p = c if utilised.contains(c) else utilised.representative_point()
+        pts = np.array([[p.x, p.y]])
+    order = np.lexsort((np.round(pts[:, 1], 9), np.round(pts[:, 0], 9)))
+    return pts[order]
+
+
+def viewpoints(scene: Scene, room: Room, settings: ViewSettings) -> tuple[list, list]:
+    """Viewpoints of a room grouped by eye height: the room's explicit points, or a grid over the
+    utilised area (the floor inset by ``settings.wall_margin_m``) at each eye height. Points on a
+    glazing plane are moved :data:`GLAZING_OFFSET_M` into the room.
+
+    Returns
+    -------
+    groups : list of (eye_height_m, (n, 3) float local [m])
+    notes : list of str
+    """
+    notes = []
+    if room.spec.view_points is not None:
+        pts = scene.to_local(room.spec.view_points)
+        heights = np.round(pts[:, 2] - room.floor_z, 3)
+        groups = [(float(h), pts[heights == h]) for h in np.unique(heights)]
+    else:
+        utilised = room.floor.buffer(-settings.wall_margin_m, join_style="mitre")
+        if utilised.is_empty:
+            raise InputError(f"rooms '{room.name}': the utilised area (floor inset by view.wall_margin_m = {settings.wall_margin_m} m) is empty; reduce the margin")
+        xy = grid_points(utilised, settings.grid_spacing_m)
+        groups = [(float(h), np.column_stack([xy, np.full(len(xy), room.floor_z + h)])) for h in settings.eye_heights_m]
+    out = []
+    for h, p in groups:
+        p = p.copy()
+        moved = 0
+        for w in room.windows:  # per window, vectorised over points
+            c = w.centroid
+            s = (p - c) @ w.normal
+            close = np.abs(s) < GLAZING_OFFSET_M
+            if np.any(close):
+                p[close] -= (s[close] + GLAZING_OFFSET_M)[:, None] * w.normal
+                moved += int(close.sum())
+        if moved:
+            notes.append(f"room '{room.name}': {moved} viewpoints at eye height {h} m lay on a glazing plane and were moved {GLAZING_OFFSET_M * 1000:.0f} mm into the room")
+        out.append((h, p))
+    return out, notes

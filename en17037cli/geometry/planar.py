@@ -1,0 +1,63 @@
+"""Planar geometry on arrays of 2D triangles and convex polygons: containment and clipping."""
+from __future__ import annotations
+
+import numpy as np
+
+
+def area2(t: np.ndarray) -> float:
+    """Twice the unsigned area of one 2D triangle (3, 2)."""
+    return abs((t[1, 0] - t[0, 0]) * (t[2, 1] - t[0, 1]) - (t[1, 1] - t[0, 1]) * (t[2, 0] - t[0, 0]))
+
+
+def in_triangle(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Whether point i lies in (or on the edge of) triangle i, row by row.
+
+    Parameters
+    ----------
+    pts : (..., 2) float; tri : (..., 3, 2) float, broadcastable, same units
+
+    Returns
+    -------
+    (...) bool; edges are included with a tolerance of 1e-12 of the triangle's doubled area
+    """
+    a, b, c = tri[..., 0, :], tri[..., 1, :], tri[..., 2, :]
+
+    def cross(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
+    s1, s2, s3 = cross(a, b, pts), cross(b, c, pts), cross(c, a, pts)
+    tol = np.abs(cross(a, b, c)) * 1e-12
+    return ((s1 >= -tol) & (s2 >= -tol) & (s3 >= -tol)) | ((s1 <= tol) & (s2 <= tol) & (s3 <= tol))
+
+
+def points_in_triangles(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Whether each point (m, 2) lies in (or on the edge of) any of the triangles (k, 3, 2).
+
+    Returns
+    -------
+    (m,) bool
+    """
+    return np.any(in_triangle(xy[:, None, :], tri[None, :, :, :]), axis=1)
+
+
+def clip_halfplane(poly: np.ndarray, count: np.ndarray, axis: int, bound: np.ndarray, sign: float):
+    """Sutherland-Hodgman step: keep the part of each convex polygon where sign * (x[axis] - bound) >= 0."""
+    m, k, _ = poly.shape
+    out = np.zeros((m, k + 1, 2))
+    n_out = np.zeros(m, dtype=int)
+    rows = np.arange(m)
+    s = sign * (poly[..., axis] - bound[:, None])
+    for i in range(k):  # over the (at most 7) vertex slots of a polygon, not over data
+        j = np.where(i + 1 < count, i + 1, 0)
+        active = i < count
+        pa, pb = poly[:, i], poly[rows, j]
+        sa, sb = s[:, i], s[rows, j]
+        keep = active & (sa >= 0)
+        out[rows[keep], n_out[keep]] = pa[keep]
+        n_out += keep
+        cross = active & ((sa >= 0) != (sb >= 0))
+        t = sa / np.where(cross, sa - sb, 1.0)
+        pc = pa + t[:, None] * (pb - pa)
+        out[rows[cross], n_out[cross]] = pc[cross]
+        n_out += cross
+    return out, n_out

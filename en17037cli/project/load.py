@@ -1,0 +1,158 @@
+"""Project file: read the YAML, apply ``--set`` overrides, validate, fill defaults, build settings.
+
+:func:`load_project` returns a :class:`~en17037cli.project.settings.Project`: typed settings for
+the scene, the engines and the reports, and the resolved document (every default filled in),
+which the report repeats under ``inputs``. Nothing here touches geometry.
+"""
+from __future__ import annotations
+
+import copy
+import csv
+import datetime as dt
+import zoneinfo
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from en17037cli.errors import InputError
+from en17037cli.project.overrides import apply_overrides
+from en17037cli.project.schema import fill_defaults, validation_errors
+from en17037cli.project.settings import Location, Project, Requirements, RoomSpec, model_settings, sun_settings, view_settings
+from en17037cli.project.yaml12 import parse_yaml
+from en17037cli.schemas import load_schema
+from en17037cli.standard import THRESHOLDS, Thresholds
+
+
+def read_points_csv(path: Path, what: str) -> list[list[float]]:
+    """Read ``x, y, z`` rows (no header, or a header that is not numeric) from a CSV file [m]."""
+    try:
+        with path.open(newline="", encoding="utf-8") as fh:
+            rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
+    except OSError as exc:
+        raise InputError(f"{what}: cannot read {path}: {exc.strerror}") from None
+    points = []
+    for i, row in enumerate(rows):
+        try:
+            xyz = [float(c) for c in row[:3]]
+        except ValueError:
+            if i == 0:
+                continue  # header
+            raise InputError(f"{path}:{i + 1}: expected three numbers x, y, z, got {row}") from None
+        if len(xyz) != 3:
+            raise InputError(f"{path}:{i + 1}: expected three numbers x, y, z, got {row}")
+        points.append(xyz)
+    if not points:
+        raise InputError(f"{path}: no points found; expected rows x, y, z in metres")
+    return points
+
+
+def load_project(path: str | Path, overrides: list[str] | None = None) -> Project:
+    """Read, validate and resolve a project file.
+
+    Raises
+    ------
+    InputError
+        With one line per problem, each naming the file and the key.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{path}: project file not found") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read project file: {exc.strerror}") from None
+    try:
+        document = parse_yaml(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f":{mark.line + 1}" if mark else ""
+        raise InputError(f"{path}{where}: not valid YAML: {getattr(exc, 'problem', exc)}") from None
+    if not isinstance(document, dict):
+        raise InputError(f"{path}: expected a mapping of keys (version, model, rooms, ...) at the top level")
+    document = apply_overrides(document, overrides or [])
+    errors = validation_errors(document)
+    if errors:
+        raise InputError("\n".join(f"{path}: {e}" for e in errors))
+    if len(document["rooms"]) > 1:
+        for i, room in enumerate(document["rooms"]):
+            if "windows" not in room:
+                raise InputError(f"{path}: rooms[{i}].windows: required when the project has several rooms; list the window names (globs) of room '{room['name']}'")
+    schema = load_schema("project")
+    config = fill_defaults(copy.deepcopy(document), schema, schema)
+    for name, values in THRESHOLDS.items():
+        config.setdefault("thresholds", {}).setdefault(name, dict(values))
+    _check_consistency(path, config)
+    return _settings(path, config)
+
+
+def _settings(path: Path, config: dict) -> Project:
+    """The typed :class:`Project` of a resolved, consistent document."""
+    directory = path.resolve().parent
+    requirements = Requirements(**config["requirements"])
+    rooms = []
+    for i, room in enumerate(config["rooms"]):
+        vp = room.get("view_points")
+        if isinstance(vp, str):
+            vp = [vp]
+        if vp and all(isinstance(v, str) for v in vp):
+            vp = [p for f in vp for p in read_points_csv((directory / f).resolve(), f"{path}: rooms[{i}].view_points")]
+        req = Requirements(**{**config["requirements"], **room.get("requirements", {})})
+        rooms.append(RoomSpec(
+            name=room["name"], index=i, floor_z=float(room["floor_z"]),
+            floor=None if "floor" not in room else np.asarray(room["floor"], dtype=float),
+            windows=tuple(room["windows"]),
+            view_points=None if vp is None else np.asarray(vp, dtype=float),
+            sun_points=None if "sun_points" not in room else np.asarray(room["sun_points"], dtype=float),
+            requirements=req))
+    loc = config.get("location")
+    return Project(
+        path=path.resolve(), name=config["name"], model=model_settings(config["model"], directory), rooms=tuple(rooms),
+        location=None if loc is None else Location(loc["latitude"], loc["longitude"], loc["timezone"], loc.get("elevation_m", 0.0)),
+        view=view_settings(config["view"]) if "view" in config else None,
+        sunlight=sun_settings(config["sunlight"]) if "sunlight" in config else None,
+        requirements=requirements, thresholds=Thresholds.from_dict(config["thresholds"]), config=config)
+
+
+def _check_consistency(path: Path, config: dict) -> None:
+    """Rules a JSON Schema cannot express; each raises a one-line :class:`InputError`."""
+    names = [r["name"] for r in config["rooms"]]
+    dupes = sorted({n for n in names if names.count(n) > 1})
+    if dupes:
+        raise InputError(f"{path}: rooms: room name '{dupes[0]}' is used twice; give each room its own name")
+    for i, f in enumerate(config["model"]["files"]):
+        p = (path.parent / f["path"])
+        if not p.is_file():
+            raise InputError(f"{path}: model.files[{i}].path: file not found: {p}")
+    for key in ("horizontal_sight_angle_deg", "outside_distance_m", "sunlight_hours"):
+        t = config["thresholds"][key]
+        if not t["minimum"] <= t["medium"] <= t["high"]:
+            raise InputError(f"{path}: thresholds.{key}: expected minimum <= medium <= high, got {t}")
+    if "sunlight" in config:
+        if "location" not in config:
+            raise InputError(f"{path}: location: required for the sunlight check (latitude, longitude, timezone); or remove the sunlight section")
+        tz = config["location"]["timezone"]
+        try:
+            zoneinfo.ZoneInfo(tz)
+        except (zoneinfo.ZoneInfoNotFoundError, ValueError):
+            raise InputError(f"{path}: location.timezone: unknown IANA time zone {tz!r}; use a name such as Europe/Amsterdam") from None
+        sun = config["sunlight"]
+        year = sun["year"]
+        try:
+            start, end = (dt.date.fromisoformat(f"{year}-{sun['period'][k]}") for k in ("start", "end"))
+        except ValueError as exc:
+            raise InputError(f"{path}: sunlight.period: not a date in {year}: {exc}") from None
+        if end < start:
+            raise InputError(f"{path}: sunlight.period: end {sun['period']['end']} is before start {sun['period']['start']}")
+        if sun["date"] not in ("worst", "best"):
+            try:
+                d = dt.date.fromisoformat(f"{year}-{sun['date']}")
+            except ValueError as exc:
+                raise InputError(f"{path}: sunlight.date: not a date in {year}: {exc}") from None
+            if not start <= d <= end:
+                raise InputError(f"{path}: sunlight.date: {sun['date']} is outside the period {sun['period']['start']}..{sun['period']['end']}")
+    if "view" in config:
+        st = config["view"]["distance_statistic"]
+        if st.startswith("p") and not 0 <= int(st[1:]) <= 100:
+            raise InputError(f"{path}: view.distance_statistic: percentile must be 0..100, got {st}")
+

@@ -1,0 +1,177 @@
+"""Typed, frozen settings built once from the resolved project document.
+
+This module and :mod:`en17037cli.project.load` are the only places that know the project file's
+keys; scene building, engines and reports receive these objects. Units are in the field names.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from en17037cli.standard import Thresholds
+
+
+@dataclass(frozen=True)
+class LayerRule:
+    """One rule of a file's ``layers:`` list: faces whose part matches get ``layer``.
+
+    match : glob tested on every name and attribute value of a part (object, group, material,
+        file stem; IFC class, Name, GlobalId, type, storey; CityJSON type, id, surface)
+    """
+
+    match: str
+    layer: str
+    obstructs_sun: bool = True
+
+
+@dataclass(frozen=True)
+class ModelFile:
+    """One entry of ``model.files``.
+
+    path : the file, resolved; display : the path as the project file writes it
+    layer : one layer for the whole file, or None when ``rules`` decide
+    units, up_axis : this file's own, or None (the format's, else the model's)
+    """
+
+    path: Path
+    display: str
+    layer: str | None
+    obstructs_sun: bool
+    rules: tuple[LayerRule, ...]
+    units: str | None
+    up_axis: str | None
+
+    @property
+    def all_ignored(self) -> bool:
+        """Every face of the file goes to ``ignore``: the file need not be read."""
+        return self.layer == "ignore" or (self.layer is None and all(r.layer == "ignore" for r in self.rules))
+
+
+@dataclass(frozen=True)
+class ModelSettings:
+    units: str
+    up_axis: str
+    true_north_deg: float
+    files: tuple[ModelFile, ...]
+
+
+@dataclass(frozen=True)
+class Location:
+    latitude: float  # [deg], north positive
+    longitude: float  # [deg], east positive
+    timezone: str  # IANA name
+    elevation_m: float = 0.0
+
+
+@dataclass(frozen=True)
+class Requirements:
+    """Levels a room must reach per check, and how rooms are combined for sunlight."""
+
+    view: str
+    sunlight: str
+    sunlight_rooms: str = "all"
+
+
+@dataclass(frozen=True)
+class RoomSpec:
+    """One entry of ``rooms`` as the project file gives it.
+
+    floor_z : [m], in the scene frame
+    floor : (k, 2) [m] polygon in the scene frame, or None (derived from the model)
+    windows : globs on window names
+    view_points : (n, 3) [m] explicit viewpoints (scene frame), or None (a grid)
+    sun_points : (k, 3) [m] explicit points P, one per window, or None (the A.3 rule)
+    """
+
+    name: str
+    index: int
+    floor_z: float
+    floor: np.ndarray | None
+    windows: tuple[str, ...]
+    view_points: np.ndarray | None
+    sun_points: np.ndarray | None
+    requirements: Requirements
+
+
+@dataclass(frozen=True)
+class ViewSettings:
+    """``view:`` section (clause 5.2). See the project schema for each key's meaning."""
+
+    eye_heights_m: tuple[float, ...]
+    grid_spacing_m: float
+    wall_margin_m: float
+    layer_threshold_sr: float
+    area_fraction: float
+    angular_resolution_deg: float
+    frame_depth_m: float
+    refine_levels: int
+    solid_angle_rel_tolerance: float
+    solid_angle_abs_tolerance_sr: float
+    horizontal_resolution_deg: float
+    angle_tolerance_deg: float
+    distance_method: str
+    distance_statistic: str
+
+
+@dataclass(frozen=True)
+class SunSettings:
+    """``sunlight:`` section (clause 5.3). ``date`` is MM-DD, ``worst`` or ``best``."""
+
+    year: int
+    period_start: str  # MM-DD
+    period_end: str  # MM-DD
+    date: str
+    timestep_min: float
+    tolerance_s: float
+    min_altitude_deg: float
+    refraction: bool
+    pressure_mbar: float
+    temperature_c: float
+    max_reveal_depth_m: float
+
+
+@dataclass(frozen=True)
+class Project:
+    """A validated project: where it is, what to load, what to check and against what.
+
+    config : the resolved document (every default filled in), repeated in the report's inputs
+    """
+
+    path: Path
+    name: str
+    model: ModelSettings
+    rooms: tuple[RoomSpec, ...]
+    location: Location | None
+    view: ViewSettings | None
+    sunlight: SunSettings | None
+    requirements: Requirements
+    thresholds: Thresholds
+    config: dict
+
+    @property
+    def directory(self) -> Path:
+        return self.path.parent
+
+
+def _fields(cls, d: dict, **extra):
+    return cls(**{k: d[k] for k in cls.__dataclass_fields__ if k in d and k not in extra}, **extra)
+
+
+def view_settings(d: dict) -> ViewSettings:
+    return _fields(ViewSettings, d, eye_heights_m=tuple(float(h) for h in d["eye_heights_m"]))
+
+
+def sun_settings(d: dict) -> SunSettings:
+    return _fields(SunSettings, d, period_start=d["period"]["start"], period_end=d["period"]["end"])
+
+
+def model_settings(d: dict, directory: Path) -> ModelSettings:
+    files = tuple(
+        ModelFile(path=(directory / f["path"]).resolve(), display=f["path"], layer=f.get("layer"),
+                  obstructs_sun=bool(f.get("obstructs_sun", True)),
+                  rules=tuple(LayerRule(r["match"], r["layer"], bool(r.get("obstructs_sun", True))) for r in f.get("layers", ())),
+                  units=f.get("units"), up_axis=f.get("up_axis"))
+        for f in d["files"])
+    return ModelSettings(units=d["units"], up_axis=d["up_axis"], true_north_deg=float(d["true_north_deg"]), files=files)

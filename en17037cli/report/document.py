@@ -1,0 +1,62 @@
+"""The report document (``report.json``): built from a run's typed results; traces no ray.
+
+Numbers are rounded to fixed decimals so that the same inputs give byte-identical files apart
+from ``timings_s``. Each criterion writes its own section of a room
+(:meth:`~en17037cli.criteria.base.Criterion.report`); this module writes the rest.
+"""
+from __future__ import annotations
+
+from en17037cli import __version__
+from en17037cli.criteria import CRITERIA
+from en17037cli.pipeline import RunResult
+from en17037cli.report.numbers import json_number, json_xyz
+
+SCHEMA_VERSION = "1.0"
+
+
+def build_report(result: RunResult) -> dict:
+    """The ``report.json`` document (validates against ``schemas/report.schema.json``).
+
+    Building it is the run's ``report`` stage: its time and the total close ``timings_s``.
+    """
+    project, scene, ctx = result.project, result.scene, result.context
+    rooms = []
+    notes = list(scene.notes)
+    for r in result.rooms:
+        room = r.room
+        entry = {
+            "name": room.name,
+            "status": "pass",
+            "floor_area_m2": json_number(room.floor.area, 4),
+            "floor_source": room.floor_source,
+            "windows": [{"name": w.name, "area_m2": json_number(w.area_m2, 4), "outward_normal": json_xyz(w.normal, 6),
+                         "sill_z_m": json_number(w.sill_z + scene.origin[2], 4),
+                         "head_z_m": json_number(w.head_z + scene.origin[2], 4)}
+                        for w in room.windows],
+        }
+        for name, criterion in CRITERIA.items():
+            res = r.results.get(name)
+            entry[name] = None if res is None else criterion.report(ctx, room, res)
+        if any(entry[c] is not None and entry[c]["status"] == "fail" for c in CRITERIA):
+            entry["status"] = "fail"
+        rooms.append(entry)
+    for r in result.rooms:
+        for name, criterion in CRITERIA.items():
+            if r.results.get(name) is not None:
+                notes.extend(criterion.notes(r.results[name]))
+    doc = {
+        "schema_version": SCHEMA_VERSION,
+        "tool": {"name": "en17037cli", "version": __version__},
+        "project": {"name": project.config.get("name"), "file": project.path.name},
+        "inputs": {"config": project.config, "model_files": scene.file_hashes, "local_origin_m": json_xyz(scene.origin, 6),
+                   "checks_run": list(result.checks_run)},
+        "status": result.status,
+        "rooms": rooms,
+        "warnings": list(scene.warnings),
+        "notes": notes,
+        "rays_traced": int(result.rays_traced),
+    }
+    result.timer.stage("report")
+    t = result.timer.t
+    doc["timings_s"] = {k: round(v, 3) for k, v in t.items()} | {"total": round(sum(t.values()), 3)}
+    return doc

@@ -1,0 +1,39 @@
+"""The CSV tables of a report: one row per viewpoint (``view_points.csv``) and per day (``sunlight_days.csv``)."""
+from __future__ import annotations
+
+import csv
+import io
+
+
+def view_points_csv(report: dict) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["room", "eye_height_m", "x_m", "y_m", "z_m", "horizontal_sight_angle_deg", "horizontal_sight_angle_error_deg",
+                "outside_distance_m", "outside_distance_unobstructed", "window_solid_angle_sr", "sky_sr", "landscape_sr",
+                "ground_sr", "layers", "level_sight_angle", "level_distance", "level_layers", "level", "near_threshold"])
+    for room in report["rooms"]:
+        if not room["view"]:
+            continue
+        for e in room["view"]["eye_heights"]:
+            for p in e["points"]:
+                lc = p["level_by_criterion"]
+                w.writerow([room["name"], e["eye_height_m"], *p["point"], p["horizontal_sight_angle_deg"],
+                            p["horizontal_sight_angle_error_deg"], "" if p["outside_distance_m"] is None else p["outside_distance_m"],
+                            p["outside_distance_unobstructed"], p["window_solid_angle_sr"], p["solid_angle_sr"]["sky"],
+                            p["solid_angle_sr"]["landscape"], p["solid_angle_sr"]["ground"], "+".join(p["layers"]),
+                            lc["horizontal_sight_angle"], lc["outside_distance"], lc["layers"], p["level"], p["near_threshold"]])
+    return buf.getvalue()
+
+
+def sunlight_days_csv(report: dict) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["room", "date", "hours", "error_h", "assessed", "intervals"])
+    for room in report["rooms"]:
+        s = room["sunlight"]
+        if not s:
+            continue
+        for d in s["days"]:
+            w.writerow([room["name"], d["date"], d["hours"], d["error_h"], d["date"] == s["assessed_date"],
+                        ";".join(f"{a[11:19]}-{b[11:19]}" for a, b in d["intervals"])])
+    return buf.getvalue()

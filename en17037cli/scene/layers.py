@@ -1,0 +1,63 @@
+"""Layers of faces: the project's rules matched against each part's names and attributes."""
+from __future__ import annotations
+
+import fnmatch
+
+import numpy as np
+
+from en17037cli.errors import InputError
+from en17037cli.io.mesh import Mesh, Part
+from en17037cli.project.settings import ModelFile
+from en17037cli.scene.model import LAYERS
+
+
+def layer_code(layer: str) -> int:
+    """Code of a layer name in :data:`~en17037cli.scene.model.LAYERS`; -1 for ``ignore``."""
+    return -1 if layer == "ignore" else LAYERS.index(layer)
+
+
+def match_candidates(part: Part, stem: str) -> list[str]:
+    """Every string a rule's ``match`` glob is tested on: each attribute value of the part and
+    the file stem, whole and word by word (so ``match: window`` finds the group 'window 3')."""
+    out = []
+    for value in [v for k, v in part.attrs.items() if k != "file"] + [stem]:
+        if value:
+            out.append(value)
+            out.extend(value.split())
+    return out or [""]
+
+
+def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[np.ndarray, np.ndarray]:
+    """Per-face layer code (-1 for ignore) and obstructs_sun flag of one model file.
+
+    A file-wide ``layer`` wins; otherwise the first rule whose glob matches one of the part's
+    names (:func:`match_candidates`); otherwise the format's default layer of the part (IFC and
+    CityJSON class tables). A part that none of these places is an input error naming it.
+    """
+    n = len(mesh.parts)
+    if spec.layer is not None:
+        by_part = np.full(n, layer_code(spec.layer))
+        sun = np.full(n, spec.obstructs_sun)
+        return by_part[mesh.part], sun[mesh.part]
+    by_part = np.empty(n, dtype=int)
+    sun = np.empty(n, dtype=bool)
+    for i, part in enumerate(mesh.parts):  # one pass per part (a named object), not per face
+        candidates = match_candidates(part, stem)
+        for rule in spec.rules:
+            if any(fnmatch.fnmatchcase(c, rule.match) for c in candidates):
+                by_part[i] = layer_code(rule.layer)
+                sun[i] = rule.obstructs_sun
+                break
+        else:
+            if part.layer is not None:
+                by_part[i] = layer_code(part.layer)
+                sun[i] = part.obstructs_sun
+                continue
+            faces = np.flatnonzero(mesh.part == i)
+            first = int(faces[0]) if len(faces) else 0
+            label = ", ".join(f"'{v}'" for k, v in part.attrs.items() if k != "file") or "(no name)"
+            raise InputError(
+                f"{where}.layers: face {first} ({label}) matches no layer rule; "
+                "add a rule for it or end the list with {match: \"*\", layer: ...}"
+            )
+    return by_part[mesh.part], sun[mesh.part]

@@ -1,0 +1,150 @@
+"""The scene model: every face of the project in one local float64 frame, its windows and rooms.
+
+No YAML and no files here: :mod:`en17037cli.scene.build` makes a :class:`Scene` from a project's
+settings; engines read it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from en17037cli.geometry import triangle_normals
+from en17037cli.io.mesh import Part
+from en17037cli.project.settings import RoomSpec
+
+if TYPE_CHECKING:
+    from shapely import Polygon
+
+#: Layer codes stored per face. ``ignore`` faces are dropped at load time.
+LAYERS = ("window", "interior", "ground", "landscape")
+WINDOW, INTERIOR, GROUND, LANDSCAPE = range(4)
+
+#: A point lying on a glazing plane (a viewpoint, point P) is moved this far into the room [m].
+GLAZING_OFFSET_M = 1e-3
+
+
+@dataclass
+class Window:
+    """One opening: an edge-connected set of coplanar window faces.
+
+    triangles : (k, 3, 3) float [m], local frame
+    normal : (3,) unit normal, pointing out of the room that owns the window
+    """
+
+    name: str
+    index: int
+    face_ids: np.ndarray
+    triangles: np.ndarray
+    normal: np.ndarray
+    area_m2: float
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """Area centroid (3,) [m]."""
+        _, areas = triangle_normals(self.triangles)
+        return (self.triangles.mean(axis=1) * areas[:, None]).sum(axis=0) / areas.sum()
+
+    @property
+    def sill_z(self) -> float:
+        """Lowest point of the glazing [m], local frame."""
+        return float(self.triangles[..., 2].min())
+
+    @property
+    def head_z(self) -> float:
+        """Highest point of the glazing [m], local frame."""
+        return float(self.triangles[..., 2].max())
+
+    def facing(self, normal: np.ndarray) -> Window:
+        """The same window with ``normal`` as its outward normal."""
+        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2)
+
+
+@dataclass
+class Room:
+    """A room: floor level and polygon in the local frame, and its windows (outward normals set).
+
+    floor : shapely Polygon, local xy [m]
+    spec : the room as the project file gives it (explicit points, requirements)
+    """
+
+    name: str
+    index: int
+    floor_z: float
+    floor: Polygon
+    windows: list[Window]
+    spec: RoomSpec
+    floor_source: str = "given"
+
+
+@dataclass
+class Geometry:
+    """Faces with their layers and parts.
+
+    vertices : (n, 3) float64 [m]; triangles : (m, 3) int64
+    layer : (m,) int8 layer code; obstructs_sun : (m,) bool
+    part : (m,) int64 index into ``parts`` (each part's attributes include ``file``)
+    """
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    layer: np.ndarray
+    obstructs_sun: np.ndarray
+    parts: list[Part]
+    part: np.ndarray
+    notes: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    file_hashes: dict[str, str] = field(default_factory=dict)
+
+
+@dataclass(kw_only=True)
+class Scene(Geometry):
+    """All faces of the project in a local float64 frame (world = local + origin) [m], with the
+    windows and rooms found in them."""
+
+    origin: np.ndarray
+    windows: list[Window]
+    rooms: list[Room] = field(default_factory=list)
+    true_north_deg: float = 0.0
+
+    def faces_of(self, mask: np.ndarray) -> np.ndarray:
+        """(k, 3, 3) float [m] triangles of the faces selected by a boolean mask."""
+        return self.vertices[self.triangles[mask]]
+
+    def to_local(self, points) -> np.ndarray:
+        return np.asarray(points, dtype=np.float64) - self.origin
+
+    def to_world(self, points) -> np.ndarray:
+        return np.asarray(points, dtype=np.float64) + self.origin
+
+    def layer_counts(self) -> dict[str, int]:
+        """Faces per layer, in :data:`LAYERS` order."""
+        return {name: int(np.count_nonzero(self.layer == code)) for code, name in enumerate(LAYERS)}
+
+    def part_label(self, part: int) -> str:
+        """'file: object' label of a part, for messages."""
+        p = self.parts[part]
+        stem = p.attrs.get("file", "")
+        name = p.label or "(unnamed)"
+        return f"{stem}: {name}" if stem else name
+
+    def ray_groups(self) -> dict:
+        """The face groups the engines trace against, for :class:`~en17037cli.raytrace.RayEngine`:
+        ``opaque`` (every face but glazing), ``interior``, ``landscape``, ``sun`` (opaque faces that
+        block the sun) and each room's windows (:func:`room_window_group`). Masks are made on
+        first use."""
+        groups: dict = {
+            "opaque": lambda: self.layer != WINDOW,
+            "interior": lambda: self.layer == INTERIOR,
+            "landscape": lambda: self.layer == LANDSCAPE,
+            "sun": lambda: (self.layer != WINDOW) & self.obstructs_sun,
+        }
+        for room in self.rooms:
+            groups[room_window_group(room)] = np.concatenate([w.face_ids for w in room.windows])
+        return groups
+
+
+def room_window_group(room: Room) -> str:
+    """Name of the ray-engine group holding the window faces of ``room``."""
+    return f"windows of room {room.index}"
