@@ -153,6 +153,8 @@ def check(project_file: Path, out_dir, only, overrides, quiet):
 def _summary(report: dict, out: Path):
     from rich.table import Table
 
+    from en17037cli.report.labels import STATUS_LABEL
+
     table = Table(title=f"EN 17037: {report['project']['name']}")
     for col in ("room", "check", "reached", "required", "result"):
         table.add_column(col)
@@ -160,8 +162,8 @@ def _summary(report: dict, out: Path):
         for name, key in (("view out", "view"), ("sunlight", "sunlight")):
             r = room[key]
             if r:
-                extra = f" ({r['hours']} h on {r['assessed_date']})" if key == "sunlight" else ""
-                table.add_row(room["name"], name + extra, r["level"], r["required"], "PASS" if r["status"] == "pass" else "FAIL")
+                extra = f" ({r['hours']} h on {r['assessed_date']})" if key == "sunlight" and r["status"] in ("pass", "fail") else ""
+                table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
     console = _stderr_console()
     console.print(table)
     console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.md, report.json, view_points.csv, sunlight_days.csv)")

@@ -6,3 +6,10 @@ class InputError(Exception):
 
     The message is one line that names the file, key or object and what to do.
     """
+
+
+class NotAssessable(Exception):
+    """A room (or one window of it) cannot be assessed by a criterion: no window bounds it, its
+    utilised area is empty, point P lies above the window head... The run goes on with the other
+    rooms; the room is reported ``not_assessable`` with this one-line reason, which fails its
+    requirement."""

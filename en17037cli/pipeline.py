@@ -10,7 +10,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from en17037cli import standard
-from en17037cli.criteria import CRITERIA, Context
+from en17037cli.criteria import CRITERIA, Context, Criterion, Unassessed
+from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene import build_scene
@@ -35,17 +36,31 @@ class Timer:
 
 @dataclass
 class RoomResult:
-    """One room and the result of each criterion that ran (None where it did not)."""
+    """One room and the result of each criterion: a typed result, an :class:`Unassessed`, or None
+    (not run and not required)."""
 
     room: Room
     results: dict[str, object]
 
-    def level(self, criterion: str) -> str | None:
+    def assessed(self, criterion: str):
+        """The criterion's typed result, or None where it did not assess the room."""
         r = self.results.get(criterion)
+        return None if r is None or isinstance(r, Unassessed) else r
+
+    def level(self, criterion: str) -> str | None:
+        r = self.assessed(criterion)
         return None if r is None else standard.level_name(CRITERIA[criterion].level(r))
 
     def required(self, criterion: str) -> str:
         return CRITERIA[criterion].required(self.room)
+
+    def status(self, criterion: str) -> str | None:
+        """``pass``, ``fail``, ``not_assessed``, ``not_assessable``, or None (not run, not required)."""
+        r = self.results.get(criterion)
+        if isinstance(r, Unassessed):
+            return r.status
+        level = self.level(criterion)
+        return None if level is None else standard.status(level, self.required(criterion))
 
 
 @dataclass
@@ -63,21 +78,57 @@ class RunResult:
 
 
 def overall_status(rooms: list[RoomResult], requirements) -> str:
-    """``pass`` when every required level is met by the checks that ran.
+    """``pass`` when every required level is met.
 
     View: every room. Sunlight: every room or at least one, by ``requirements.sunlight_rooms``
-    (:func:`~en17037cli.standard.sunlight_rooms_pass`).
+    (:func:`~en17037cli.standard.sunlight_rooms_pass`). A required criterion that did not assess a
+    room (not assessed, not assessable) does not meet its requirement.
     """
     ok = True
     sun_ok = []
     for r in rooms:
-        view, sun = r.level("view"), r.level("sunlight")
+        view, sun = r.status("view"), r.status("sunlight")
         if view is not None:
-            ok &= standard.passes(view, r.required("view"))
+            ok &= view == "pass"
         if sun is not None:
-            sun_ok.append(standard.passes(sun, r.required("sunlight")))
+            sun_ok.append(sun == "pass")
     ok &= standard.sunlight_rooms_pass(sun_ok, requirements.sunlight_rooms)
     return "pass" if ok else "fail"
+
+
+def _unrun(project: Project, only: str | None):
+    """The results of the criteria that do not run: ``not_assessed`` where a room requires them."""
+    out: dict[str, dict[str, object]] = {}
+    for name, c in CRITERIA.items():
+        if c.settings(project) is not None and only in (None, name):
+            continue
+        reason = f"the project has no '{name}' section" if c.settings(project) is None else f"--only {only} left it out"
+        out[name] = {}
+        for spec in project.rooms:
+            required = getattr(spec.requirements, name)
+            if required != "none":
+                out[name][spec.name] = Unassessed("not_assessed", reason)
+    return out
+
+
+def _assess(c: Criterion, ctx: Context, room: Room, plan, advance):
+    if room.problem is not None:
+        return Unassessed("not_assessable", room.problem)
+    if isinstance(plan, Unassessed):
+        return plan
+    try:
+        return c.assess(ctx, room, plan, advance)
+    except NotAssessable as exc:
+        return Unassessed("not_assessable", str(exc))
+
+
+def _plan(c: Criterion, ctx: Context, room: Room):
+    if room.problem is not None:
+        return None
+    try:
+        return c.plan(ctx, room)
+    except NotAssessable as exc:
+        return Unassessed("not_assessable", str(exc))
 
 
 def run(project: Project, only: str | None = None, progress: Progress | None = None) -> RunResult:
@@ -92,17 +143,18 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
     scene = build_scene(project)
     timer.stage("load")
     chosen = [c for name, c in CRITERIA.items() if c.settings(project) is not None and only in (None, name)]
-    results: dict[str, dict[str, object]] = {}
+    results = _unrun(project, only)
     with RayEngine(scene.vertices, scene.triangles, scene.ray_groups()) as engine:
         ctx = Context(project, scene, engine)
         groups = [g for c in chosen for g in c.ray_groups(scene)]
         engine.prepare(list(dict.fromkeys(groups)))  # built once, shared by every criterion and room
         timer.stage("build")
         for c in chosen:
-            plans = {room.name: c.plan(ctx, room) for room in scene.rooms}
-            advance = progress(sum(c.size(p) for p in plans.values()), c.name) if progress else None
-            results[c.name] = {room.name: c.assess(ctx, room, plans[room.name], advance) for room in scene.rooms}
+            plans = {room.name: _plan(c, ctx, room) for room in scene.rooms}
+            size = sum(c.size(p) for p in plans.values() if p is not None and not isinstance(p, Unassessed))
+            advance = progress(size, c.name) if progress else None
+            results[c.name] = {room.name: _assess(c, ctx, room, plans[room.name], advance) for room in scene.rooms}
             timer.stage(c.name)
     rooms = [RoomResult(room, {name: results.get(name, {}).get(room.name) for name in CRITERIA}) for room in scene.rooms]
     return RunResult(project=project, scene=scene, rooms=rooms, status=overall_status(rooms, project.requirements),
-                     checks_run=[c.name for c in chosen], rays_traced=engine.rays_traced, timer=timer, context=ctx)
+                     checks_run=[c.name for c in chosen], rays_traced=engine.rays_traced, context=ctx, timer=timer)

@@ -77,8 +77,13 @@ def test_only_runs_one_check(project, tmp_path):
     out = tmp_path / "out"
     r = invoke("check", project, "--out", out, "--quiet", "--only", "sunlight", *FAST)
     report = json.loads((out / "report.json").read_text())
-    assert report["rooms"][0]["view"] is None and report["inputs"]["checks_run"] == ["sunlight"]
-    assert r.exit_code == 0
+    # view is required (medium) but did not run: not assessed, which fails the run
+    assert report["rooms"][0]["view"] == {"level": None, "required": "medium", "status": "not_assessed",
+                                          "reason": "--only sunlight left it out"}
+    assert report["inputs"]["checks_run"] == ["sunlight"]
+    assert r.exit_code == 1
+    r = invoke("check", project, "--out", out, "--quiet", "--only", "sunlight", "--set", "requirements.view=none", *FAST)
+    assert json.loads((out / "report.json").read_text())["rooms"][0]["view"] is None and r.exit_code == 0
 
 
 def _bad(tmp_path, project, fn, expected: str):
@@ -156,7 +161,7 @@ def test_validate_seed_office():
 
 def test_seed_office_sunlight_reports_all_49_days(tmp_path):
     out = tmp_path / "seed"
-    r = invoke("check", SEED, "--out", out, "--quiet", "--only", "sunlight")
+    r = invoke("check", SEED, "--out", out, "--quiet", "--only", "sunlight", "--set", "requirements.view=none")
     assert r.exit_code == 0, r.output
     s = json.loads((out / "report.json").read_text())["rooms"][0]["sunlight"]
     assert len(s["days"]) == 49 and s["days"][0]["date"] == "2026-02-01" and s["days"][-1]["date"] == "2026-03-21"
@@ -174,7 +179,8 @@ def test_schema_command_prints_json():
 def test_installed_console_script(project, tmp_path):
     exe = shutil.which("en17037", path=str(Path(sys.executable).parent))
     assert exe, "console script not installed"
-    p = subprocess.run([exe, "check", str(project), "--out", str(tmp_path / "sub"), "--only", "sunlight", *FAST],
+    p = subprocess.run([exe, "check", str(project), "--out", str(tmp_path / "sub"), "--only", "sunlight",
+                        "--set", "requirements.view=none", *FAST],
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     assert "reports in" in p.stderr

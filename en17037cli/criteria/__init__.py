@@ -4,11 +4,11 @@ Each implements :class:`~en17037cli.criteria.base.Criterion`; adding one is one 
 """
 from __future__ import annotations
 
-from en17037cli.criteria.base import Context, Criterion
+from en17037cli.criteria.base import Context, Criterion, Unassessed
 from en17037cli.criteria.sunlight import SunlightCriterion
 from en17037cli.criteria.view import ViewCriterion
 
 #: name -> criterion, in run and report order
 CRITERIA: dict[str, Criterion] = {c.name: c for c in (ViewCriterion(), SunlightCriterion())}
 
-__all__ = ["CRITERIA", "Context", "Criterion"]
+__all__ = ["CRITERIA", "Context", "Criterion", "Unassessed"]

@@ -18,6 +18,18 @@ from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import Room, Scene
 
 
+@dataclass(frozen=True)
+class Unassessed:
+    """A criterion's result for a room it did not assess, and why.
+
+    status : ``not_assessed`` (the check did not run: no section in the project, or ``--only``)
+        or ``not_assessable`` (the room, or every window of it, cannot be assessed)
+    """
+
+    status: str
+    reason: str
+
+
 @dataclass
 class Context:
     """What every criterion sees of a run: the project, its scene and the shared ray engine.

@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 import csv
 import datetime as dt
+import math
 import zoneinfo
 from pathlib import Path
 
@@ -17,7 +18,7 @@ import yaml
 
 from en17037cli.errors import InputError
 from en17037cli.project.overrides import apply_overrides
-from en17037cli.project.schema import fill_defaults, validation_errors
+from en17037cli.project.schema import fill_defaults, key_path, validation_errors
 from en17037cli.project.settings import Location, Project, Requirements, RoomSpec, model_settings, sun_settings, view_settings
 from en17037cli.project.yaml12 import parse_yaml
 from en17037cli.schemas import load_schema
@@ -39,12 +40,88 @@ def read_points_csv(path: Path, what: str) -> list[list[float]]:
             if i == 0:
                 continue  # header
             raise InputError(f"{path}:{i + 1}: expected three numbers x, y, z, got {row}") from None
-        if len(xyz) != 3:
-            raise InputError(f"{path}:{i + 1}: expected three numbers x, y, z, got {row}")
+        if len(xyz) != 3 or not all(math.isfinite(c) for c in xyz):
+            raise InputError(f"{path}:{i + 1}: expected three finite numbers x, y, z, got {row}")
         points.append(xyz)
     if not points:
         raise InputError(f"{path}: no points found; expected rows x, y, z in metres")
     return points
+
+
+#: Project files larger than this are not parsed [bytes]; a real one is a few kB.
+MAX_PROJECT_BYTES = 5 * 1024 * 1024
+#: A project document may hold at most this many values once YAML aliases are expanded.
+MAX_DOCUMENT_VALUES = 1_000_000
+
+
+def read_document(path: Path) -> dict:
+    """The YAML document of a project file, checked for size, encoding, aliases and numbers.
+
+    Raises
+    ------
+    InputError
+        One line naming the file and what to do.
+    """
+    try:
+        size = path.stat().st_size
+    except FileNotFoundError:
+        raise InputError(f"{path}: project file not found") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read project file: {exc.strerror}") from None
+    if not path.is_file():
+        raise InputError(f"{path}: not a file; give the path of a project file (YAML)")
+    if size > MAX_PROJECT_BYTES:
+        raise InputError(f"{path}: project file is {size / 1e6:.1f} MB, over the {MAX_PROJECT_BYTES // 2**20} MB a project "
+                         "file may have; put geometry and viewpoints in separate files (model.files, view_points CSV)")
+    try:
+        text = path.read_bytes().decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: not UTF-8 text (byte {exc.start}); save the project file as UTF-8") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read project file: {exc.strerror}") from None
+    try:
+        document = parse_yaml(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f":{mark.line + 1}" if mark else ""
+        raise InputError(f"{path}{where}: not valid YAML: {getattr(exc, 'problem', exc)}") from None
+    if not isinstance(document, dict):
+        raise InputError(f"{path}: expected a mapping of keys (version, model, rooms, ...) at the top level")
+    if expanded_size(document) > MAX_DOCUMENT_VALUES:
+        raise InputError(f"{path}: YAML aliases expand to more than {MAX_DOCUMENT_VALUES:,} values; write the document out "
+                         "without nested aliases")
+    return document
+
+
+def expanded_size(node, memo: dict | None = None) -> int:
+    """Number of values in a YAML document with every alias expanded, counted without expanding:
+    an aliased node is one object, whose size is computed once (linear in the distinct nodes)."""
+    memo = {} if memo is None else memo
+    key = id(node)
+    if key in memo:
+        return memo[key]
+    memo[key] = 1  # a cycle counts once
+    if isinstance(node, dict):
+        size = 1 + sum(expanded_size(v, memo) for v in node.values()) + len(node)
+    elif isinstance(node, list):
+        size = 1 + sum(expanded_size(v, memo) for v in node)
+    else:
+        size = 1
+    memo[key] = size
+    return size
+
+
+def non_finite_numbers(node, at=()) -> list[str]:
+    """Key paths of NaN and infinite numbers (``.nan``, ``.inf``, ``1e400``) in a document."""
+    if isinstance(node, bool):
+        return []
+    if isinstance(node, float):
+        return [] if math.isfinite(node) else [key_path(at)]
+    if isinstance(node, dict):
+        return [p for k, v in node.items() for p in non_finite_numbers(v, (*at, k))]
+    if isinstance(node, list):
+        return [p for i, v in enumerate(node) for p in non_finite_numbers(v, (*at, i))]
+    return []
 
 
 def load_project(path: str | Path, overrides: list[str] | None = None) -> Project:
@@ -56,28 +133,13 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
         With one line per problem, each naming the file and the key.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{path}: project file not found") from None
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read project file: {exc.strerror}") from None
-    try:
-        document = parse_yaml(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f":{mark.line + 1}" if mark else ""
-        raise InputError(f"{path}{where}: not valid YAML: {getattr(exc, 'problem', exc)}") from None
-    if not isinstance(document, dict):
-        raise InputError(f"{path}: expected a mapping of keys (version, model, rooms, ...) at the top level")
-    document = apply_overrides(document, overrides or [])
+    document = apply_overrides(read_document(path), overrides or [])
+    bad = non_finite_numbers(document)
+    if bad:
+        raise InputError("\n".join(f"{path}: {k}: not a finite number; give a number such as 1.5" for k in bad))
     errors = validation_errors(document)
     if errors:
         raise InputError("\n".join(f"{path}: {e}" for e in errors))
-    if len(document["rooms"]) > 1:
-        for i, room in enumerate(document["rooms"]):
-            if "windows" not in room:
-                raise InputError(f"{path}: rooms[{i}].windows: required when the project has several rooms; list the window names (globs) of room '{room['name']}'")
     schema = load_schema("project")
     config = fill_defaults(copy.deepcopy(document), schema, schema)
     for name, values in THRESHOLDS.items():
@@ -101,7 +163,9 @@ def _settings(path: Path, config: dict) -> Project:
         rooms.append(RoomSpec(
             name=room["name"], index=i, floor_z=float(room["floor_z"]),
             floor=None if "floor" not in room else np.asarray(room["floor"], dtype=float),
-            windows=tuple(room["windows"]),
+            windows=None if "windows" not in room else tuple(room["windows"]),
+            ceiling_z=None if "ceiling_z" not in room else float(room["ceiling_z"]),
+            window_margin_m=float(room["window_margin_m"]),
             view_points=None if vp is None else np.asarray(vp, dtype=float),
             sun_points=None if "sun_points" not in room else np.asarray(room["sun_points"], dtype=float),
             requirements=req))
@@ -128,14 +192,15 @@ def _check_consistency(path: Path, config: dict) -> None:
         t = config["thresholds"][key]
         if not t["minimum"] <= t["medium"] <= t["high"]:
             raise InputError(f"{path}: thresholds.{key}: expected minimum <= medium <= high, got {t}")
-    if "sunlight" in config:
-        if "location" not in config:
-            raise InputError(f"{path}: location: required for the sunlight check (latitude, longitude, timezone); or remove the sunlight section")
+    if "location" in config:
         tz = config["location"]["timezone"]
         try:
             zoneinfo.ZoneInfo(tz)
-        except (zoneinfo.ZoneInfoNotFoundError, ValueError):
+        except (zoneinfo.ZoneInfoNotFoundError, ValueError, OSError):
             raise InputError(f"{path}: location.timezone: unknown IANA time zone {tz!r}; use a name such as Europe/Amsterdam") from None
+    if "sunlight" in config:
+        if "location" not in config:
+            raise InputError(f"{path}: location: required for the sunlight check (latitude, longitude, timezone); or remove the sunlight section")
         sun = config["sunlight"]
         year = sun["year"]
         try:

@@ -78,9 +78,10 @@ class Requirements:
 class RoomSpec:
     """One entry of ``rooms`` as the project file gives it.
 
-    floor_z : [m], in the scene frame
+    floor_z : [m], in the scene frame; ceiling_z : [m] or None (derived from the model)
     floor : (k, 2) [m] polygon in the scene frame, or None (derived from the model)
-    windows : globs on window names
+    windows : globs on window names, or None: every window that bounds the room
+    window_margin_m : [m], how far beyond the floor's outline a window of the room may lie (the wall)
     view_points : (n, 3) [m] explicit viewpoints (scene frame), or None (a grid)
     sun_points : (k, 3) [m] explicit points P, one per window, or None (the A.3 rule)
     """
@@ -89,7 +90,9 @@ class RoomSpec:
     index: int
     floor_z: float
     floor: np.ndarray | None
-    windows: tuple[str, ...]
+    windows: tuple[str, ...] | None
+    ceiling_z: float | None
+    window_margin_m: float
     view_points: np.ndarray | None
     sun_points: np.ndarray | None
     requirements: Requirements

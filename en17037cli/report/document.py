@@ -7,7 +7,7 @@ from ``timings_s``. Each criterion writes its own section of a room
 from __future__ import annotations
 
 from en17037cli import __version__
-from en17037cli.criteria import CRITERIA
+from en17037cli.criteria import CRITERIA, Unassessed
 from en17037cli.pipeline import RunResult
 from en17037cli.report.numbers import json_number, json_xyz
 
@@ -34,15 +34,20 @@ def build_report(result: RunResult) -> dict:
                          "head_z_m": json_number(w.head_z + scene.origin[2], 4)}
                         for w in room.windows],
         }
+        if room.problem is not None:
+            entry["problem"] = room.problem
         for name, criterion in CRITERIA.items():
             res = r.results.get(name)
-            entry[name] = None if res is None else criterion.report(ctx, room, res)
-        if any(entry[c] is not None and entry[c]["status"] == "fail" for c in CRITERIA):
+            if isinstance(res, Unassessed):
+                entry[name] = {"level": None, "required": r.required(name), "status": res.status, "reason": res.reason}
+            else:
+                entry[name] = None if res is None else criterion.report(ctx, room, res)
+        if any(r.status(c) not in (None, "pass") for c in CRITERIA):
             entry["status"] = "fail"
         rooms.append(entry)
     for r in result.rooms:
         for name, criterion in CRITERIA.items():
-            if r.results.get(name) is not None:
+            if r.assessed(name) is not None:
                 notes.extend(criterion.notes(r.results[name]))
     doc = {
         "schema_version": SCHEMA_VERSION,

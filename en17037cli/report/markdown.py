@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from en17037cli.report.labels import STATUS_LABEL, assessed, unassessed
 from en17037cli.standard import LEVELS
 
 _LEVEL_MARK = {"none": ".", "minimum": "1", "medium": "2", "high": "3"}
@@ -32,16 +33,20 @@ def report_markdown(report: dict) -> str:
          f"Overall status: **{report['status'].upper()}** (en17037cli {report['tool']['version']}, project file `{report['project']['file']}`).", "",
          "| room | criterion | level reached | level required | result |", "|---|---|---|---|---|"]
     for room in report["rooms"]:
-        if room["view"]:
+        for key, title in (("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)")):
+            u = unassessed(room[key])
+            if u:
+                L.append(f"| {room['name']} | **{title}** | | {u['required']} | {STATUS_LABEL[u['status']]}: {u['reason']} |")
+        if assessed(room["view"]):
             v = room["view"]
             for e in v["eye_heights"]:
                 for crit, lv in e["level_by_criterion"].items():
                     L.append(f"| {room['name']} | view, eye {e['eye_height_m']} m: {crit.replace('_', ' ')} | {lv} | | |")
-            L.append(f"| {room['name']} | **view out (5.2)** | **{v['level']}** | {v['required']} | {'PASS' if v['status'] == 'pass' else 'FAIL'} |")
-        if room["sunlight"]:
+            L.append(f"| {room['name']} | **view out (5.2)** | **{v['level']}** | {v['required']} | {STATUS_LABEL[v['status']]} |")
+        if assessed(room["sunlight"]):
             s = room["sunlight"]
             flag = " (near a threshold)" if s["near_threshold"] else ""
-            L.append(f"| {room['name']} | **exposure to sunlight (5.3)**: {s['hours']} h on {s['assessed_date']}{flag} | **{s['level']}** | {s['required']} | {'PASS' if s['status'] == 'pass' else 'FAIL'} |")
+            L.append(f"| {room['name']} | **exposure to sunlight (5.3)**: {s['hours']} h on {s['assessed_date']}{flag} | **{s['level']}** | {s['required']} | {STATUS_LABEL[s['status']]} |")
     L += ["", "## Parameters the standard leaves open", ""]
     if "view" in cfg:
         v = cfg["view"]
@@ -68,14 +73,14 @@ def report_markdown(report: dict) -> str:
         L += ["", f"## Room {room['name']}", ""]
         for w in room["windows"]:
             L.append(f"- Window '{w['name']}': {w['area_m2']} m², outward normal {w['outward_normal']}, sill {w['sill_z_m']} m, head {w['head_z_m']} m.")
-        if room["sunlight"]:
+        if assessed(room["sunlight"]):
             s = room["sunlight"]
             for w in s["windows"]:
                 L.append(f"- Point P of '{w['name']}': {w['point_p_m']} ({w['point_p_source']}, reveal depth {w['reveal_depth_m']} m).")
             hrs = [d["hours"] for d in s["days"]]
             L += [f"- Sunlight over the period: {min(hrs)} h to {max(hrs)} h a day; assessed {s['assessed_date']}: {s['hours']} h "
                   f"± {s['error_estimates']['hours_error_h']} h."]
-        if room["view"]:
+        if assessed(room["view"]):
             v = room["view"]
             ee = v["error_estimates"]
             L += [f"- View error estimates: solid angles ≤ {ee['max_solid_angle_error_sr']} sr, sight angle ≤ "

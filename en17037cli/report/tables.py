@@ -4,6 +4,8 @@ from __future__ import annotations
 import csv
 import io
 
+from en17037cli.report.labels import assessed
+
 
 def view_points_csv(report: dict) -> str:
     buf = io.StringIO()
@@ -12,7 +14,7 @@ def view_points_csv(report: dict) -> str:
                 "outside_distance_m", "outside_distance_unobstructed", "window_solid_angle_sr", "sky_sr", "landscape_sr",
                 "ground_sr", "layers", "level_sight_angle", "level_distance", "level_layers", "level", "near_threshold"])
     for room in report["rooms"]:
-        if not room["view"]:
+        if not assessed(room["view"]):
             continue
         for e in room["view"]["eye_heights"]:
             for p in e["points"]:
@@ -30,7 +32,7 @@ def sunlight_days_csv(report: dict) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["room", "date", "hours", "error_h", "assessed", "intervals"])
     for room in report["rooms"]:
-        s = room["sunlight"]
+        s = assessed(room["sunlight"])
         if not s:
             continue
         for d in s["days"]:

@@ -63,10 +63,13 @@ class Window:
 
 @dataclass
 class Room:
-    """A room: floor level and polygon in the local frame, and its windows (outward normals set).
+    """A room: floor level and polygon in the local frame, and the windows that bound it (outward
+    normals set).
 
-    floor : shapely Polygon, local xy [m]
+    floor : shapely Polygon, local xy [m]; floor_z, ceiling_z : [m], local
     spec : the room as the project file gives it (explicit points, requirements)
+    window_reasons : window name -> why it bounds the room (for ``validate``)
+    problem : why no criterion can assess the room (no floor at floor_z, no window), or None
     """
 
     name: str
@@ -76,6 +79,10 @@ class Room:
     windows: list[Window]
     spec: RoomSpec
     floor_source: str = "given"
+    ceiling_z: float = float("inf")
+    ceiling_source: str = ""
+    window_reasons: dict[str, str] = field(default_factory=dict)
+    problem: str | None = None
 
 
 @dataclass
@@ -141,7 +148,7 @@ class Scene(Geometry):
             "sun": lambda: (self.layer != WINDOW) & self.obstructs_sun,
         }
         for room in self.rooms:
-            groups[room_window_group(room)] = np.concatenate([w.face_ids for w in room.windows])
+            groups[room_window_group(room)] = np.concatenate([w.face_ids for w in room.windows] or [np.zeros(0, np.int64)])
         return groups
 
 

@@ -1,46 +1,131 @@
-"""Rooms: floor polygons (given, or derived from the model) and the windows of each room."""
+"""Rooms: floor polygons (given, or derived from the model), ceilings, and the windows that bound each room.
+
+A room's windows are found geometrically, not by name: a window bounds a room when its glazing
+lies over the room's floor outline grown by ``window_margin_m`` (the wall it sits in) and between
+the room's floor and ceiling, and the room lies on its inner side (:func:`bounds_room`). The
+project's ``windows:`` globs only narrow that set; a glob that picks a window which does not bound
+the room is an input error naming both. This keeps a room from seeing the sun through another
+room's window behind a partition.
+"""
 from __future__ import annotations
 
 import fnmatch
+from dataclasses import dataclass
 
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.geometry import triangle_normals
+from en17037cli.geometry import triangle_normals, window_axes
 from en17037cli.project.settings import RoomSpec
 from en17037cli.scene.model import INTERIOR, Room, Scene, Window
 
+#: A room is at least this high: horizontal interior faces lower than this above the floor are
+#: furniture or steps, not its ceiling [m] ...
+MIN_ROOM_HEIGHT_M = 1.8
+#: ... and without a ceiling found over its floor, windows up to this height above the floor are its own [m].
+DEFAULT_ROOM_HEIGHT_M = 4.0
+#: Share of a window's width (or, for roof glazing, of its plan area) that must lie over the grown floor.
+MIN_OVER_FLOOR_SHARE = 0.5
+#: Glazing steeper than this (|normal z| below it) is a wall window, tested by its plan trace.
+WALL_WINDOW_MAX_NZ = 0.5
+#: Points along a wall window's width tested against the floor outline.
+WIDTH_SAMPLES = 11
 
-def derive_floor(scene: Scene, floor_z: float, near: np.ndarray, where: str):
-    """The floor polygon at ``floor_z`` [m, local]: union of horizontal interior faces within 2 cm
-    of it, the part nearest to the room's windows (``near``, (k, 2) [m])."""
+
+@dataclass(frozen=True)
+class Bounding:
+    """Whether and how a window bounds a room: ``share`` of its width over the grown floor on the
+    room's side, the outward ``normal`` that side gives, and a one-line ``reason``."""
+
+    bounds: bool
+    share: float
+    normal: np.ndarray
+    reason: str
+
+
+def floor_components(scene: Scene, floor_z: float):
+    """Polygons of the horizontal interior faces within 2 cm of ``floor_z`` [m, local], unioned."""
     import shapely
 
-    mask = scene.layer == INTERIOR
-    tris = scene.faces_of(mask)
+    tris = scene.faces_of(scene.layer == INTERIOR)
     normals, areas = triangle_normals(tris)
     flat = (np.abs(normals[:, 2]) > 0.999) & np.all(np.abs(tris[..., 2] - floor_z) < 0.02, axis=1) & (areas > 0)
     if not np.any(flat):
-        raise InputError(f"{where}: no horizontal interior faces at floor_z; check floor_z or give 'floor' as a polygon [[x, y], ...]")
-    polys = shapely.polygons(tris[flat][..., :2])
-    union = shapely.union_all(shapely.make_valid(polys)).buffer(1e-6).buffer(-1e-6)
-    parts = [union] if union.geom_type == "Polygon" else [g for g in getattr(union, "geoms", []) if g.geom_type == "Polygon"]
-    if not parts:
-        raise InputError(f"{where}: the floor at floor_z has no area; give 'floor' as a polygon [[x, y], ...]")
-    pts = shapely.points(near)
-    dist = [float(np.min(shapely.distance(p, pts))) for p in parts]
-    return parts[int(np.argmin(dist))]
+        return []
+    union = shapely.union_all(shapely.make_valid(shapely.polygons(tris[flat][..., :2]))).buffer(1e-6).buffer(-1e-6)
+    return [union] if union.geom_type == "Polygon" else [g for g in getattr(union, "geoms", []) if g.geom_type == "Polygon"]
+
+
+def derive_ceiling(scene: Scene, floor, floor_z: float) -> tuple[float, str]:
+    """Ceiling level [m, local] over a floor: the lowest horizontal interior face at least
+    :data:`MIN_ROOM_HEIGHT_M` above it whose centroid lies over the floor; else floor + :data:`DEFAULT_ROOM_HEIGHT_M`."""
+    import shapely
+
+    tris = scene.faces_of(scene.layer == INTERIOR)
+    normals, areas = triangle_normals(tris)
+    z = tris[..., 2].mean(axis=1)
+    cand = (np.abs(normals[:, 2]) > 0.999) & (z >= floor_z + MIN_ROOM_HEIGHT_M) & (areas > 0)
+    if np.any(cand):
+        c = tris[cand].mean(axis=1)
+        over = shapely.contains_xy(floor, c[:, 0], c[:, 1])
+        if np.any(over):
+            return float(z[cand][over].min()), "the lowest horizontal interior face over the floor"
+    return floor_z + DEFAULT_ROOM_HEIGHT_M, f"no ceiling found over the floor: floor + {DEFAULT_ROOM_HEIGHT_M:g} m"
+
+
+def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_m: float) -> Bounding:
+    """Whether ``window`` bounds the room with ``floor`` (shapely Polygon, local xy [m]) between
+    ``floor_z`` and ``ceiling_z`` [m].
+
+    A wall window bounds the room when at least :data:`MIN_OVER_FLOOR_SHARE` of its width, moved
+    at most ``margin_m`` [m] horizontally to one side of its plane, lies over the floor; that side
+    is the room's, and the outward normal points to the other. Roof glazing (flatter than
+    :data:`WALL_WINDOW_MAX_NZ`) bounds it when that share of its plan area lies over the floor
+    grown by the margin; it faces up. In both cases the glazing must reach between floor and
+    ceiling + margin.
+    """
+    import shapely
+
+    lo, hi = window.sill_z, window.head_z
+    n = np.asarray(window.normal, float)
+    if hi < floor_z - 1e-6 or lo > ceiling_z + margin_m:
+        return Bounding(False, 0.0, n, f"its glazing (z {lo:.2f} to {hi:.2f} m) is not between floor and ceiling")
+    if abs(n[2]) >= WALL_WINDOW_MAX_NZ:
+        plan = shapely.union_all(shapely.make_valid(shapely.polygons(window.triangles[..., :2])))
+        share = plan.intersection(floor.buffer(margin_m, join_style="mitre")).area / max(plan.area, 1e-12)
+        up = n if n[2] > 0 else -n
+        ok = share >= MIN_OVER_FLOOR_SHARE
+        return Bounding(ok, share, up, f"roof glazing, {share:.0%} of its plan area over the floor grown by {margin_m:g} m")
+    a, _ = window_axes(n)
+    h = n.copy()
+    h[2] = 0.0
+    h /= np.linalg.norm(h)
+    s = window.triangles.reshape(-1, 3) @ a
+    c = window.centroid
+    t = np.linspace(0.05, 0.95, WIDTH_SAMPLES)
+    along = s.min() + t * (s.max() - s.min()) - c @ a
+    starts = c[None, :2] + along[:, None] * a[None, :2]
+    share = {}
+    for side in (1.0, -1.0):  # the two sides of the glazing: +h and -h
+        ends = starts + side * margin_m * h[None, :2]
+        lines = shapely.linestrings(np.stack([starts, ends], axis=1))
+        share[side] = float(np.mean(shapely.intersects(lines, floor)))
+    side = 1.0 if share[1.0] > share[-1.0] else -1.0
+    ok = share[side] >= MIN_OVER_FLOOR_SHARE
+    outward = -side * n  # h is n's horizontal part: the room lies towards side * n
+    return Bounding(ok, share[side], outward,
+                    f"{share[side]:.0%} of its width within {margin_m:g} m of the floor outline, z {lo:.2f} to {hi:.2f} m")
+
+
+def _globbed(window: Window, globs) -> str | None:
+    return next((g for g in globs if fnmatch.fnmatchcase(window.name, g)), None)
 
 
 def make_room(scene: Scene, spec: RoomSpec, where: str) -> Room:
-    """The :class:`Room` of ``spec``: its windows (by the spec's globs), its floor, and each
+    """The :class:`Room` of ``spec``: its floor, ceiling and the windows that bound it, each
     window's normal turned away from the room."""
     import shapely
 
-    chosen = [w for w in scene.windows if any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
-    if not chosen:
-        known = ", ".join(f"'{w.name}'" for w in scene.windows)
-        raise InputError(f"{where}.windows: no window matches {list(spec.windows)}; windows found: {known}")
     floor_z = spec.floor_z - scene.origin[2]
     if spec.floor is not None:
         poly = shapely.Polygon(spec.floor - scene.origin[:2])
@@ -48,15 +133,43 @@ def make_room(scene: Scene, spec: RoomSpec, where: str) -> Room:
             raise InputError(f"{where}.floor: not a simple polygon with area; list its corners in order")
         source = "given"
     else:
-        near = np.array([w.centroid[:2] for w in chosen])
-        poly = derive_floor(scene, floor_z, near, where)
+        parts = floor_components(scene, floor_z)
+        if not parts:
+            return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=shapely.Polygon(), windows=[], spec=spec,
+                        floor_source="none", problem=f"no horizontal interior faces at floor_z = {spec.floor_z:g} m; check "
+                        "floor_z or give 'floor' as a polygon [[x, y], ...]")
+        if len(parts) > 1:
+            named = [w for w in scene.windows if spec.windows and _globbed(w, spec.windows)]
+            if not named:
+                raise InputError(f"{where}: {len(parts)} separate floors at floor_z; give 'floor' as a polygon [[x, y], ...] "
+                                 "or name the room's windows (windows: [...]) to pick the floor beside them")
+            near = shapely.points(np.array([w.centroid[:2] for w in named]))
+            poly = parts[int(np.argmin([float(np.min(shapely.distance(p, near))) for p in parts]))]
+        else:
+            poly = parts[0]
         source = "derived from horizontal interior faces at floor_z"
-    return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=poly,
-                windows=orient_windows(chosen, poly, floor_z), spec=spec, floor_source=source)
-
-
-def orient_windows(windows: list[Window], floor, floor_z: float) -> list[Window]:
-    """Windows with their normals pointing away from the room (from a point 1.5 m above the
-    floor's centroid)."""
-    centre = np.array([floor.centroid.x, floor.centroid.y, floor_z + 1.5])
-    return [w if np.dot(w.normal, w.centroid - centre) >= 0 else w.facing(-w.normal) for w in windows]
+    if spec.ceiling_z is not None:
+        ceiling_z, ceiling_source = spec.ceiling_z - scene.origin[2], "given"
+    else:
+        ceiling_z, ceiling_source = derive_ceiling(scene, poly, floor_z)
+    windows, reasons = [], {}
+    for w in scene.windows:  # one test per window of the model
+        b = bounds_room(w, poly, floor_z, ceiling_z, spec.window_margin_m)
+        glob = _globbed(w, spec.windows) if spec.windows is not None else "*"
+        if glob is None:
+            continue
+        if not b.bounds:
+            if spec.windows is None:
+                continue
+            raise InputError(f"{where}.windows: '{glob}' picks window '{w.name}', which does not bound room '{spec.name}' "
+                             f"({b.reason}); remove it from the list, or fix floor, floor_z or window_margin_m")
+        windows.append(w.facing(b.normal))
+        reasons[w.name] = b.reason
+    if spec.windows is not None and not windows:
+        known = ", ".join(f"'{w.name}'" for w in scene.windows)
+        raise InputError(f"{where}.windows: no window matches {list(spec.windows)}; windows found: {known}")
+    problem = None if windows else (f"no window bounds the room (none lies within window_margin_m = {spec.window_margin_m:g} m "
+                                    "of its floor outline, between floor and ceiling)")
+    return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=poly, windows=windows, spec=spec,
+                floor_source=source, ceiling_z=ceiling_z, ceiling_source=ceiling_source, window_reasons=reasons,
+                problem=problem)

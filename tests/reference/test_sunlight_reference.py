@@ -8,7 +8,7 @@ import pytest
 
 from en17037cli.criteria.sunlight import intervals as sun_intervals
 from en17037cli.criteria.sunlight import solar_position as sp
-from en17037cli.errors import InputError
+from en17037cli.errors import NotAssessable
 from en17037cli.samples import BoxRoom
 
 
@@ -113,9 +113,9 @@ def test_results_do_not_depend_on_the_timestep(build):
     assert np.all(base_e <= 4 * 1.0 / 3600)  # at most four changes a day, each to 1 s
 
 
-def test_point_p_above_the_window_head_is_an_input_error(build):
+def test_point_p_above_the_window_head_makes_the_window_not_assessable(build):
     b = build(BoxRoom(window_z=(0.2, 1.0)), sunlight=sun_cfg("02-01"), view=None)
-    with pytest.raises(InputError, match="window 'glazing'.*above the window head"):
+    with pytest.raises(NotAssessable, match="window 'glazing'.*above the window head"):
         assess(b)
 
 

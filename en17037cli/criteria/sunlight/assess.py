@@ -8,7 +8,7 @@ from en17037cli.criteria.sunlight.intervals import day_bounds, visible_intervals
 from en17037cli.criteria.sunlight.point_p import point_p
 from en17037cli.criteria.sunlight.results import SunlightResult
 from en17037cli.criteria.sunlight.visibility import SunVisibility
-from en17037cli.errors import InputError
+from en17037cli.errors import InputError, NotAssessable
 from en17037cli.project.settings import Location, SunSettings
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import Room, Scene, room_window_group
@@ -32,21 +32,27 @@ def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettin
     """Sunlight result of one room: P per window, every day's hours and intervals, assessed date and level."""
     notes = []
     explicit = room.spec.sun_points
+    problems: list[str | None] = [None] * len(room.windows)
     if explicit is not None:
-        if len(explicit) != len(room.windows):
-            names = ", ".join(f"'{w.name}'" for w in room.windows)
-            raise InputError(f"room '{room.name}': sun_points has {len(explicit)} points for {len(room.windows)} windows ({names}); give one per window, in that order")
+        check_sun_points(room)
         pts = scene.to_local(explicit)
-        depths = [None] * len(pts)
+        depths: list = [None] * len(pts)
         notes.append(f"room '{room.name}': point P given explicitly (rooms[].sun_points)")
     else:
-        res = [point_p(engine, scene, room, w, settings) for w in room.windows]  # one per window
-        pts = np.array([r[0] for r in res])
-        depths = [r[1] for r in res]
-        for r in res:
-            notes.extend(r[2])
+        pts = np.full((len(room.windows), 3), np.nan)
+        depths = [None] * len(room.windows)
+        for i, w in enumerate(room.windows):  # one point P per window
+            try:
+                pts[i], depths[i], more = point_p(engine, scene, room, w, settings)
+            except NotAssessable as exc:
+                problems[i] = str(exc)
+                continue
+            notes.extend(more)
+        if all(problems):
+            raise NotAssessable("no window of the room has a point P: " + "; ".join(p for p in problems if p))
+    ok = np.array([p is None for p in problems])
     normals = np.array([w.normal for w in room.windows])
-    vis = SunVisibility(engine, pts, normals, room_window_group(room), location, settings, scene.true_north_deg)
+    vis = SunVisibility(engine, pts[ok], normals[ok], room_window_group(room), location, settings, scene.true_north_deg)
     dates, t0, t1 = day_bounds(settings.year, settings.period_start, settings.period_end, location.timezone)
     step = settings.timestep_min * 60.0
     intervals, err_s = visible_intervals(vis, t0, t1, step, settings.tolerance_s)
@@ -56,4 +62,14 @@ def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettin
     level = int(standard.level_from_value([hours[k]], thresholds.sunlight_hours)[0])
     near = bool(standard.near_threshold([hours[k]], [err_h[k]], thresholds.sunlight_hours)[0])
     return SunlightResult(points_local=pts, reveal_depths_m=depths, dates=dates, hours=hours, intervals=intervals,
-                          error_h=err_h, assessed_index=k, level=level, near_threshold=near, timestep_s=step, notes=notes)
+                          error_h=err_h, assessed_index=k, level=level, near_threshold=near, timestep_s=step, notes=notes,
+                          window_problems=problems)
+
+
+def check_sun_points(room: Room) -> None:
+    """Explicit points P must be one per window of the room, in the order ``validate`` lists them."""
+    explicit = room.spec.sun_points
+    if explicit is not None and len(explicit) != len(room.windows):
+        names = ", ".join(f"'{w.name}'" for w in room.windows)
+        raise InputError(f"room '{room.name}': sun_points has {len(explicit)} points for {len(room.windows)} windows ({names}); "
+                         "give one per window, in that order")

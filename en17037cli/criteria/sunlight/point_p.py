@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from en17037cli import standard
-from en17037cli.errors import InputError
+from en17037cli.errors import NotAssessable
 from en17037cli.geometry import window_axes
 from en17037cli.project.settings import SunSettings
 from en17037cli.raytrace import RayEngine
@@ -55,11 +55,28 @@ def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.
     return max(deepest, 0.0)
 
 
+def point_p_height(room: Room, window: Window) -> float:
+    """Height of point P [m, local]: max(floor + 1.2 m, sill + 0.3 m) (EN 17037 Annex A.3).
+
+    Raises
+    ------
+    NotAssessable
+        Where that height lies above the window head (a small or high window): the rule has no
+        point P in the opening.
+    """
+    z_p = max(room.floor_z + standard.SUN_POINT_MIN_ABOVE_FLOOR_M, window.sill_z + standard.SUN_POINT_MIN_ABOVE_SILL_M)
+    if z_p > window.head_z + 1e-9:
+        raise NotAssessable(
+            f"window '{window.name}': point P at max(floor + 1.2 m, sill + 0.3 m) = {z_p - room.floor_z:.3f} m above the "
+            f"floor lies above the window head ({window.head_z - room.floor_z:.3f} m); give rooms[].sun_points to assess it")
+    return z_p
+
+
 def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, settings: SunSettings) -> tuple[np.ndarray, float, list]:
     """Point P of a window (local frame) by EN 17037 Annex A.3, its reveal depth [m] and notes.
 
     On the room-side plane of the opening (see :func:`reveal_depth`), at the horizontal centre of
-    the window, at height max(floor + 1.2 m, sill + 0.3 m).
+    the window, at height :func:`point_p_height`.
     """
     n = window.normal
     a, up = window_axes(n)
@@ -67,12 +84,7 @@ def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, setting
     s = verts @ a
     c = window.centroid
     centre = c + (0.5 * (s.min() + s.max()) - c @ a) * a
-    z_p = max(room.floor_z + standard.SUN_POINT_MIN_ABOVE_FLOOR_M, window.sill_z + standard.SUN_POINT_MIN_ABOVE_SILL_M)
-    if z_p > window.head_z + 1e-9:
-        raise InputError(
-            f"room '{room.name}', window '{window.name}': point P at max(floor + 1.2 m, sill + 0.3 m) = "
-            f"{z_p - room.floor_z:.3f} m above the floor lies above the window head ({window.head_z - room.floor_z:.3f} m); "
-            "give rooms[].sun_points explicitly")
+    z_p = point_p_height(room, window)
     if abs(up[2]) > 1e-9:
         q = centre + ((z_p - centre[2]) / up[2]) * up
     else:

@@ -22,9 +22,13 @@ def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: st
     level = LEVELS[res.level]
     windows = []
     pw = scene.to_world(res.points_local)
-    for w, p, depth in zip(room.windows, pw, res.reveal_depths_m):
-        windows.append({"name": w.name, "point_p_m": json_xyz(p), "reveal_depth_m": None if depth is None else json_number(depth, 4),
-                        "point_p_source": "explicit" if depth is None else "EN 17037 A.3 rule"})
+    for w, p, depth, problem in zip(room.windows, pw, res.reveal_depths_m, res.window_problems):
+        entry = {"name": w.name, "point_p_m": None if problem else json_xyz(p),
+                 "reveal_depth_m": None if depth is None else json_number(depth, 4),
+                 "point_p_source": "explicit" if depth is None and not problem else "EN 17037 A.3 rule"}
+        if problem:
+            entry |= {"status": "not_assessable", "reason": problem}
+        windows.append(entry)
     days = []
     for d, h, iv, e in zip(res.dates, res.hours, res.intervals, res.error_h):
         days.append({"date": d.isoformat(), "hours": json_number(h, 4), "error_h": json_number(e, 5),

@@ -16,6 +16,7 @@ class SunlightResult:
     hours : (d,) float [h], per day of the period; intervals : per day, (j, 2) float unix times [s]
     error_h : (d,) float [h], error estimate of each day's hours
     assessed_index : the day judged (``sunlight.date``); level : level index reached that day
+    window_problems : per window, why it has no point P (its P is NaN and it is left out), or None
     """
 
     points_local: np.ndarray
@@ -29,3 +30,4 @@ class SunlightResult:
     near_threshold: bool
     timestep_s: float
     notes: list[str] = field(default_factory=list)
+    window_problems: list[str | None] = field(default_factory=list)

@@ -65,11 +65,11 @@ def fan_intervals(rg: RoomGeometry, points: np.ndarray):
     key = pi * 8.0 + start
     order = np.argsort(key, kind="stable")
     key, end = key[order], key[order] + width[order]
+    if len(key) == 0:  # no window at this eye height from any point: sight angle 0
+        return np.zeros(0, np.int64), np.zeros(0), np.zeros(0)
     run_end = np.maximum.accumulate(end)
     new = np.r_[True, key[1:] > run_end[:-1] + 1e-12]
     g0 = np.flatnonzero(new)
-    if len(g0) == 0:
-        return np.zeros(0, np.int64), np.zeros(0), np.zeros(0)
     g_end = np.maximum.reduceat(end, g0)
     pt = pi[order][g0]
     return pt, key[g0] - pt * 8.0, g_end - key[g0]

@@ -32,7 +32,6 @@ class Sampler:
         self.U, self.V, self.N = rg.frame_array("u"), rg.frame_array("v"), rg.frame_array("n")
         self.rect = rg.frame_array("is_rectangle")
         self.with_distance = with_distance
-        self.rays = 0
 
     def __call__(self, patch: np.ndarray, A: np.ndarray, B: np.ndarray):
         """Class of each sample (-1: outside the window's outline) and perpendicular distance [m] beyond the glazing.
@@ -77,7 +76,6 @@ class Sampler:
         dist = None
         if self.with_distance:
             dist = np.where(c == LANDSCAPE_HIT, (t_o - t_w) / secant, np.inf)
-        self.rays += len(c)
         if idx is not None:
             full_c = np.full(len(A), -1, dtype=np.int8)
             full_c[idx] = c

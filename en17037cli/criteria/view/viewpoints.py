@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from en17037cli.errors import InputError
+from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import ViewSettings
 from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene
 
@@ -66,7 +66,8 @@ def viewpoints(scene: Scene, room: Room, settings: ViewSettings) -> tuple[list, 
     else:
         utilised = room.floor.buffer(-settings.wall_margin_m, join_style="mitre")
         if utilised.is_empty:
-            raise InputError(f"rooms '{room.name}': the utilised area (floor inset by view.wall_margin_m = {settings.wall_margin_m} m) is empty; reduce the margin")
+            raise NotAssessable(f"the utilised area (floor inset by view.wall_margin_m = {settings.wall_margin_m} m) is empty; "
+                                "reduce the margin or check the floor")
         xy = grid_points(utilised, settings.grid_spacing_m)
         groups = [(float(h), np.column_stack([xy, np.full(len(xy), room.floor_z + h)])) for h in settings.eye_heights_m]
     out = []
