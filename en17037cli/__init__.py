@@ -32,13 +32,17 @@ def run(project, only: str | None = None, progress=None):
 
 
 def write_reports(result, out_dir) -> dict:
-    """Build the report document of a :class:`~en17037cli.pipeline.RunResult` (or take a built one)
-    and write every report file into ``out_dir`` atomically; return the document."""
+    """Build the report document of a :class:`~en17037cli.pipeline.RunResult` and write every report
+    file into ``out_dir`` as one set (only replacing reports written there for the same project);
+    return the document."""
     from pathlib import Path
 
     from en17037cli.report.document import build_report
+    from en17037cli.report.folder import check_folder
+    from en17037cli.report.write import WRITERS
     from en17037cli.report.write import write_reports as write
 
-    report = result if isinstance(result, dict) else build_report(result)
-    write(report, Path(out_dir))
+    check_folder(Path(out_dir), result.project.path, WRITERS)
+    report = build_report(result)
+    write(report, Path(out_dir), result.project.path)
     return report

@@ -84,6 +84,11 @@ def project_argument(fn):
     return click.argument("project_file", type=click.Path(dir_okay=False, path_type=Path))(fn)
 
 
+def max_points_option(fn):
+    return click.option("--max-points", type=click.IntRange(1), default=None,
+                        help="Viewpoint budget of a run [default: 100,000]; a larger project stops with exit 2 before any work.")(fn)
+
+
 def set_option(fn):
     return click.option("--set", "overrides", multiple=True, metavar="KEY.PATH=VALUE",
                         help="Override a project key, e.g. --set sunlight.timestep_min=1 (repeatable).")(fn)
@@ -118,36 +123,52 @@ def cli():
 @cli.command()
 @project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Report folder [default: en17037-report/ beside the project file].")
-@click.option("--only", type=click.Choice(["view", "sunlight"]), default=None, help="Run one check only.")
+              help="Report folder [default: en17037-report/<project file stem>/ beside the project file].")
+@click.option("--only", type=click.Choice(["view", "sunlight"]), default=None,
+              help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
+@max_points_option
 @click.option("--quiet", "-q", is_flag=True, help="No progress bars and no summary.")
-def check(project_file: Path, out_dir, only, overrides, quiet):
+def check(project_file: Path, out_dir, only, overrides, max_points, quiet):
     """Run the checks of PROJECT_FILE and write the reports."""
     from en17037cli import pipeline
+    from en17037cli.preflight import MAX_POINTS
     from en17037cli.project import load_project
     from en17037cli.report.document import build_report
-    from en17037cli.report.write import remove_reports, write_reports
+    from en17037cli.report.folder import check_folder, default_folder
+    from en17037cli.report.write import WRITERS, write_reports
 
-    out = out_dir or project_file.parent / "en17037-report"
+    out = out_dir or default_folder(project_file)
 
     def run():
-        remove_reports(out) if out.is_dir() else None
         project = load_project(project_file, list(overrides))
+        check_folder(out, project.path, WRITERS)  # before any work: a folder we may not write stops here
         bar, progress = _progress_factory(not quiet and sys.stderr.isatty())
         if bar is not None:
             with bar:
-                result = pipeline.run(project, only, progress)
+                result = pipeline.run(project, only, progress, max_points or MAX_POINTS)
         else:
-            result = pipeline.run(project, only)
+            result = pipeline.run(project, only, max_points=max_points or MAX_POINTS)
         report = build_report(result)
-        write_reports(report, out)
+        write_reports(report, out, project.path)
         return report
 
+    _exit_on_sigterm()
     report = guard(run)
     if not quiet:
         _summary(report, out)
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
+
+
+def _exit_on_sigterm():
+    """SIGTERM ends the run like Ctrl-C does: cleanup runs, exit code 143 (128 + 15)."""
+    import signal
+
+    def handler(signum, frame):
+        click.echo("error: terminated", err=True)
+        sys.exit(128 + signum)
+
+    signal.signal(signal.SIGTERM, handler)
 
 
 def _summary(report: dict, out: Path):
@@ -172,25 +193,72 @@ def _summary(report: dict, out: Path):
 @cli.command()
 @project_argument
 @set_option
-def validate(project_file: Path, overrides):
-    """Check PROJECT_FILE and its geometry; print faces per layer and each room's windows."""
+@max_points_option
+@click.option("--objects", is_flag=True, help="Also list every object (part) of the model with its layer and faces.")
+def validate(project_file: Path, overrides, max_points, objects):
+    """Check PROJECT_FILE and its geometry as `check` would, without running the criteria.
+
+    Prints faces per layer, each room's floor, ceiling and the windows that bound it (and why),
+    rooms and windows that cannot be assessed, and warnings.
+    """
+    from en17037cli.criteria import Context
+    from en17037cli.preflight import MAX_POINTS, preflight
     from en17037cli.project import load_project
+    from en17037cli.raytrace import RayEngine
     from en17037cli.scene import build_scene
 
     def run():
         project = load_project(project_file, list(overrides))
-        return project, build_scene(project)
+        scene = build_scene(project)
+        with RayEngine(scene.vertices, scene.triangles, scene.ray_groups()) as engine:
+            return project, scene, preflight(Context(project, scene, engine), max_points or MAX_POINTS)
 
-    project, scene = guard(run)
+    project, scene, pf = guard(run)
     click.echo(f"{project_file}: valid")
     click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in scene.layer_counts().items()))
+    if pf.points:
+        click.echo(f"estimated cost: {pf.points:,} viewpoints, {pf.cells:,.0f} sampling cells (budget {max_points or MAX_POINTS:,} viewpoints)")
+    bounding = set()
     for room in scene.rooms:
-        click.echo(f"room '{room.name}': floor {room.floor.area:.2f} m² ({room.floor_source}), {len(room.windows)} window(s)")
+        if room.problem:
+            click.echo(f"room '{room.name}': NOT ASSESSABLE: {room.problem}")
+            continue
+        z0 = room.floor_z + scene.origin[2]
+        click.echo(f"room '{room.name}': floor {room.floor.area:.2f} m² at z {z0:.3f} m ({room.floor_source}), ceiling at "
+                   f"z {room.ceiling_z + scene.origin[2]:.3f} m ({room.ceiling_source}), {len(room.windows)} window(s)")
         for w in room.windows:
+            bounding.add(w.name)
             n = ", ".join(f"{c:.4f}" for c in w.normal)
-            click.echo(f"  window '{w.name}': {w.area_m2:.3f} m², outward normal ({n}), {len(w.face_ids)} faces")
-    for note in scene.warnings + scene.notes:
+            click.echo(f"  window '{w.name}': {w.area_m2:.3f} m², outward normal ({n}), {len(w.face_ids)} faces; "
+                       f"bounds the room: {room.window_reasons[w.name]}")
+        for crit, rooms in pf.unassessable.items():
+            if room.name in rooms:
+                click.echo(f"  {crit}: NOT ASSESSABLE: {rooms[room.name]}")
+    for w in scene.windows:
+        if w.name not in bounding:
+            click.echo(f"note: window '{w.name}' bounds no room of the project")
+    for note in pf.warnings:
+        click.echo(f"warning: {note}")
+    for note in scene.notes:
         click.echo(f"note: {note}")
+    if objects:
+        _list_objects(scene)
+
+
+def _list_objects(scene):
+    """One line per part of the model: file, names, layer, faces (``validate --objects``)."""
+    import numpy as np
+
+    from en17037cli.scene.model import LAYERS
+
+    faces = np.bincount(scene.part, minlength=len(scene.parts))
+    for i, part in enumerate(scene.parts):
+        if not faces[i]:
+            continue
+        layers = np.unique(scene.layer[scene.part == i])
+        names = ", ".join(f"{k}={v}" for k, v in part.attrs.items() if k != "file")
+        click.echo(f"object {part.attrs.get('file', '')}: {names or '(no name)'}: layer "
+                   f"{'/'.join(LAYERS[c] for c in layers)}, {faces[i]} faces")
 
 
 @cli.group()

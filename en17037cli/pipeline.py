@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from en17037cli import standard
 from en17037cli.criteria import CRITERIA, Context, Criterion, Unassessed
 from en17037cli.errors import NotAssessable
+from en17037cli.preflight import MAX_POINTS, preflight
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene import build_scene
@@ -74,6 +75,7 @@ class RunResult:
     checks_run: list[str]
     rays_traced: int
     context: Context
+    warnings: list[str] = field(default_factory=list)
     timer: Timer = field(default_factory=Timer)
 
 
@@ -131,13 +133,15 @@ def _plan(c: Criterion, ctx: Context, room: Room):
         return Unassessed("not_assessable", str(exc))
 
 
-def run(project: Project, only: str | None = None, progress: Progress | None = None) -> RunResult:
+def run(project: Project, only: str | None = None, progress: Progress | None = None,
+        max_points: int = MAX_POINTS) -> RunResult:
     """Run the checks of ``project``.
 
     Parameters
     ----------
     only : a criterion name (``view``, ``sunlight``), or None for every criterion the project asks for
     progress : optional progress-bar factory (see :data:`Progress`)
+    max_points : the viewpoint budget (see :func:`~en17037cli.preflight.check_budget`)
     """
     timer = Timer()
     scene = build_scene(project)
@@ -146,6 +150,7 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
     results = _unrun(project, only)
     with RayEngine(scene.vertices, scene.triangles, scene.ray_groups()) as engine:
         ctx = Context(project, scene, engine)
+        checks = preflight(ctx, max_points)  # input errors stop the run here, before any criterion
         groups = [g for c in chosen for g in c.ray_groups(scene)]
         engine.prepare(list(dict.fromkeys(groups)))  # built once, shared by every criterion and room
         timer.stage("build")
@@ -157,4 +162,5 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
             timer.stage(c.name)
     rooms = [RoomResult(room, {name: results.get(name, {}).get(room.name) for name in CRITERIA}) for room in scene.rooms]
     return RunResult(project=project, scene=scene, rooms=rooms, status=overall_status(rooms, project.requirements),
-                     checks_run=[c.name for c in chosen], rays_traced=engine.rays_traced, context=ctx, timer=timer)
+                     checks_run=[c.name for c in chosen], rays_traced=engine.rays_traced, context=ctx,
+                     warnings=checks.warnings, timer=timer)

@@ -33,6 +33,7 @@ class BoxRoom:
     second_pane: float = 0.0  # > 0: a second glazing pane this far inside the first (double glazing)
     uncut_wall: bool = False  # the facade wall runs on behind the glazing, with no opening cut
     gap: float = 0.0  # > 0: two panes with an opaque strip this wide between them, at x = 0
+    round_window: int = 0  # > 0: a round pane of this many segments in the opening, in a 5 cm frame ring 2 cm inside
 
 
 #: Mullion plates stand this far inside the glazing plane (room side) [m].
@@ -62,6 +63,20 @@ def _wall_with_hole(y, b: BoxRoom):
             _rect_y(y, wx0, wx1, 0, wz0), _rect_y(y, wx0, wx1, wz1, b.height)]
 
 
+def _round_window(b: BoxRoom):
+    """A round pane inscribed in the opening (triangles fanned from its centre) and a frame ring:
+    quads between radii r and r + 5 cm, MULLION_GAP inside the glazing plane, like a tessellated
+    round frame exported from BIM."""
+    (wx0, wx1), (wz0, wz1) = b.window_x, b.window_z
+    cx, cz, r = (wx0 + wx1) / 2, (wz0 + wz1) / 2, min(wx1 - wx0, wz1 - wz0) / 2
+    t = np.linspace(0.0, 2 * np.pi, b.round_window + 1)
+    ring = lambda rad, y: [(cx + rad * np.cos(a), y, cz + rad * np.sin(a)) for a in t]  # noqa: E731
+    rim, inner, outer = ring(r, 0.0), ring(r, MULLION_GAP), ring(r + 0.05, MULLION_GAP)
+    glazing = [[(cx, 0.0, cz), rim[i], rim[i + 1]] for i in range(b.round_window)]
+    frame = [[inner[i], inner[i + 1], outer[i + 1], outer[i]] for i in range(b.round_window)]
+    return glazing, frame
+
+
 def box_room_polygons(b: BoxRoom) -> dict:
     """Polygons per object name: ``room``, ``glazing``, ``ground``, ``building`` (and ``shutter``)."""
     hw, t = b.width / 2, b.wall_thickness
@@ -83,6 +98,9 @@ def box_room_polygons(b: BoxRoom) -> dict:
         g2 = b.gap / 2
         glazing = [_rect_y(0.0, wx0, -g2, wz0, wz1), _rect_y(0.0, g2, wx1, wz0, wz1)]
         room.append(_rect_y(0.0, -g2, g2, wz0, wz1))
+    if b.round_window:
+        glazing, ring = _round_window(b)
+        room += ring
     if b.second_pane > 0:
         glazing.append(_rect_y(b.second_pane, wx0, wx1, wz0, wz1))
     for xm in b.mullions:
@@ -157,12 +175,13 @@ def box_room_project(directory: Path, b: BoxRoom | None = None, offset=(0.0, 0.0
     layers = [{"match": "room", "layer": "interior"}, {"match": "shutter", "layer": "interior"},
               {"match": "glazing", "layer": "window"}, {"match": "ground", "layer": "ground"},
               {"match": "building", "layer": "landscape"}]
+    layers = [r for r in layers if r["match"] in objects]  # a rule that matches nothing is a warning
     units = SCALE_UNITS[float(scale)]
     if split_files:
         files = []
         for obj, polys in objects.items():
             write_obj(directory / f"{obj}.obj", {obj: polys}, **kw)
-            files.append({"path": f"{obj}.obj", "layers": layers})
+            files.append({"path": f"{obj}.obj", "layers": [r for r in layers if r["match"] == obj]})
     else:
         write_obj(directory / "model.obj", objects, **kw)
         files = [{"path": "model.obj", "layers": layers}]

@@ -89,14 +89,15 @@ def test_only_runs_one_check(project, tmp_path):
 def _bad(tmp_path, project, fn, expected: str):
     out = tmp_path / "out"
     out.mkdir(exist_ok=True)
-    (out / "report.json").write_text("{}")  # a report of an earlier run
+    (out / "notes.txt").write_text("mine")  # a user's file in the report folder
     edit(project, fn) if fn else None
     r = invoke("check", project, "--out", out, "--quiet")
     assert r.exit_code == 2, r.output
     lines = r.output.strip().splitlines()
     assert len(lines) == 1, r.output
     assert expected in lines[0], lines[0]
-    assert not any((out / n).exists() for n in REPORT_FILES)  # no partial or stale report left
+    assert not any((out / n).exists() for n in REPORT_FILES)  # no partial report
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"] and (out / "notes.txt").read_text() == "mine"
 
 
 def test_missing_model_file(tmp_path, project):

@@ -59,9 +59,13 @@ class Criterion(ABC):
     def ray_groups(self, scene: Scene) -> list[str]:
         """Names of the engine groups the criterion queries (built once, before any room)."""
 
-    def check_inputs(self, project: Project, scene: Scene) -> list[str]:
-        """Input problems found without tracing a ray (one line each); ``validate`` reports them."""
-        return []
+    def check_inputs(self, ctx: Context) -> dict[str, str]:
+        """Rooms the criterion cannot assess, found without tracing a ray: room name -> reason.
+
+        Raises :class:`~en17037cli.errors.InputError` for contradictions in the project file (say,
+        explicit points that do not fit the room). ``validate`` and ``check`` both call it.
+        """
+        return {}
 
     @abstractmethod
     def plan(self, ctx: Context, room: Room) -> Any:

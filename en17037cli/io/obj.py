@@ -28,7 +28,7 @@ def read_obj(path: Path, options: ReadOptions | None = None) -> Mesh:
     warnings: list = []
     bad_faces = 0
     try:
-        fh = path.open("r", encoding="utf-8", errors="replace")
+        fh = path.open("r", encoding="utf-8-sig", errors="replace")  # -sig: a byte-order mark is not part of line 1
     except OSError as exc:
         raise InputError(f"{path}: cannot read model file: {exc.strerror}") from None
     with fh:

@@ -10,7 +10,7 @@ from en17037cli.io import ReadOptions, register
 from en17037cli.io.mesh import Mesh, Part
 
 
-@register(".glb", ".gltf", ".ply", ".stl", ".off")
+@register(".glb", ".gltf", ".ply", ".off")
 def read_with_trimesh(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read glTF/GLB, PLY, STL or OFF through trimesh; node and geometry names become face names."""
     import trimesh

@@ -57,7 +57,7 @@ def build_report(result: RunResult) -> dict:
                    "checks_run": list(result.checks_run)},
         "status": result.status,
         "rooms": rooms,
-        "warnings": list(scene.warnings),
+        "warnings": list(result.warnings),
         "notes": notes,
         "rays_traced": int(result.rays_traced),
     }

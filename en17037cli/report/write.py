@@ -1,13 +1,11 @@
-"""Writers of the report files, in a registry, and writing them all atomically."""
+"""Writers of the report files, in a registry, and writing them all as one set."""
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
+from en17037cli.report.folder import commit
 from en17037cli.report.markdown import report_markdown
 from en17037cli.report.tables import sunlight_days_csv, view_points_csv
 
@@ -27,32 +25,7 @@ WRITERS: dict[str, Callable[[dict], str]] = {
 REPORT_FILES = tuple(WRITERS)
 
 
-def remove_reports(out_dir: Path) -> None:
-    """Delete the report files of an earlier run in ``out_dir`` (only ours)."""
-    for name in REPORT_FILES:
-        try:
-            (out_dir / name).unlink()
-        except FileNotFoundError:
-            pass
-
-
-def write_reports(report: dict, out_dir: Path) -> list[Path]:
-    """Write all report files atomically: into a temporary folder beside ``out_dir``, then moved."""
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    contents = {name: writer(report) for name, writer in WRITERS.items()}
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.", dir=out_dir.parent))
-    try:
-        for name, text in contents.items():
-            with open(tmp / name, "w", encoding="utf-8", newline="") as fh:
-                fh.write(text)
-                fh.flush()
-                os.fsync(fh.fileno())
-        for name in contents:
-            os.replace(tmp / name, out_dir / name)
-    except BaseException:
-        remove_reports(out_dir)
-        raise
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return [out_dir / n for n in contents]
+def write_reports(report: dict, out_dir: Path, project_file: Path) -> list[Path]:
+    """Write every report file of ``report`` into ``out_dir`` as one set (see :mod:`.folder`)."""
+    contents = {name: writer(report).encode("utf-8") for name, writer in WRITERS.items()}
+    return commit(Path(out_dir), Path(project_file), contents)

@@ -27,26 +27,29 @@ def match_candidates(part: Part, stem: str) -> list[str]:
     return out or [""]
 
 
-def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[np.ndarray, np.ndarray]:
-    """Per-face layer code (-1 for ignore) and obstructs_sun flag of one model file.
+def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Per-face layer code (-1 for ignore) and obstructs_sun flag of one model file, and warnings.
 
     A file-wide ``layer`` wins; otherwise the first rule whose glob matches one of the part's
     names (:func:`match_candidates`); otherwise the format's default layer of the part (IFC and
-    CityJSON class tables). A part that none of these places is an input error naming it.
+    CityJSON class tables). A part that none of these places is an input error naming it. A rule
+    that places no part (a typo such as ``Tree*`` for ``tree_1``) is a warning.
     """
     n = len(mesh.parts)
     if spec.layer is not None:
         by_part = np.full(n, layer_code(spec.layer))
         sun = np.full(n, spec.obstructs_sun)
-        return by_part[mesh.part], sun[mesh.part]
+        return by_part[mesh.part], sun[mesh.part], []
     by_part = np.empty(n, dtype=int)
     sun = np.empty(n, dtype=bool)
+    used = [False] * len(spec.rules)
     for i, part in enumerate(mesh.parts):  # one pass per part (a named object), not per face
         candidates = match_candidates(part, stem)
-        for rule in spec.rules:
+        for k, rule in enumerate(spec.rules):
             if any(fnmatch.fnmatchcase(c, rule.match) for c in candidates):
                 by_part[i] = layer_code(rule.layer)
                 sun[i] = rule.obstructs_sun
+                used[k] = True
                 break
         else:
             if part.layer is not None:
@@ -60,4 +63,7 @@ def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[n
                 f"{where}.layers: face {first} ({label}) matches no layer rule; "
                 "add a rule for it or end the list with {match: \"*\", layer: ...}"
             )
-    return by_part[mesh.part], sun[mesh.part]
+    warnings = [f"{where}.layers[{k}] (match: '{r.match}', layer: {r.layer}): matches no object of {spec.display}; "
+                "check the name (validate --objects lists them)" for k, (r, u) in enumerate(zip(spec.rules, used))
+                if not u and r.match != "*"]
+    return by_part[mesh.part], sun[mesh.part], warnings

@@ -73,7 +73,7 @@ def derive_ceiling(scene: Scene, floor, floor_z: float) -> tuple[float, str]:
     return floor_z + DEFAULT_ROOM_HEIGHT_M, f"no ceiling found over the floor: floor + {DEFAULT_ROOM_HEIGHT_M:g} m"
 
 
-def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_m: float) -> Bounding:
+def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_m: float, z_world: float = 0.0) -> Bounding:
     """Whether ``window`` bounds the room with ``floor`` (shapely Polygon, local xy [m]) between
     ``floor_z`` and ``ceiling_z`` [m].
 
@@ -82,14 +82,14 @@ def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_
     is the room's, and the outward normal points to the other. Roof glazing (flatter than
     :data:`WALL_WINDOW_MAX_NZ`) bounds it when that share of its plan area lies over the floor
     grown by the margin; it faces up. In both cases the glazing must reach between floor and
-    ceiling + margin.
+    ceiling + margin. ``z_world`` [m] turns local heights into the model's for the reason.
     """
     import shapely
 
     lo, hi = window.sill_z, window.head_z
     n = np.asarray(window.normal, float)
     if hi < floor_z - 1e-6 or lo > ceiling_z + margin_m:
-        return Bounding(False, 0.0, n, f"its glazing (z {lo:.2f} to {hi:.2f} m) is not between floor and ceiling")
+        return Bounding(False, 0.0, n, f"its glazing (z {lo + z_world:.2f} to {hi + z_world:.2f} m) is not between floor and ceiling")
     if abs(n[2]) >= WALL_WINDOW_MAX_NZ:
         plan = shapely.union_all(shapely.make_valid(shapely.polygons(window.triangles[..., :2])))
         share = plan.intersection(floor.buffer(margin_m, join_style="mitre")).area / max(plan.area, 1e-12)
@@ -114,7 +114,7 @@ def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_
     ok = share[side] >= MIN_OVER_FLOOR_SHARE
     outward = -side * n  # h is n's horizontal part: the room lies towards side * n
     return Bounding(ok, share[side], outward,
-                    f"{share[side]:.0%} of its width within {margin_m:g} m of the floor outline, z {lo:.2f} to {hi:.2f} m")
+                    f"{share[side]:.0%} of its width within {margin_m:g} m of the floor outline, z {lo + z_world:.2f} to {hi + z_world:.2f} m")
 
 
 def _globbed(window: Window, globs) -> str | None:
@@ -154,7 +154,7 @@ def make_room(scene: Scene, spec: RoomSpec, where: str) -> Room:
         ceiling_z, ceiling_source = derive_ceiling(scene, poly, floor_z)
     windows, reasons = [], {}
     for w in scene.windows:  # one test per window of the model
-        b = bounds_room(w, poly, floor_z, ceiling_z, spec.window_margin_m)
+        b = bounds_room(w, poly, floor_z, ceiling_z, spec.window_margin_m, scene.origin[2])
         glob = _globbed(w, spec.windows) if spec.windows is not None else "*"
         if glob is None:
             continue

@@ -9,7 +9,9 @@ from __future__ import annotations
 import zoneinfo
 
 from en17037cli.criteria.base import Context, Criterion
-from en17037cli.criteria.sunlight.assess import assess_room
+from en17037cli.criteria.sunlight.assess import assess_room, check_sun_points
+from en17037cli.criteria.sunlight.point_p import point_p_height
+from en17037cli.errors import NotAssessable
 from en17037cli.criteria.sunlight.report import sunlight_section
 from en17037cli.criteria.sunlight.results import SunlightResult
 from en17037cli.project.settings import Location, Project, SunSettings
@@ -34,6 +36,23 @@ class SunlightCriterion(Criterion):
 
     def plan(self, ctx: Context, room):
         return None
+
+    def check_inputs(self, ctx: Context) -> dict[str, str]:
+        out = {}
+        for room in ctx.scene.rooms:
+            if room.problem is not None:
+                continue
+            check_sun_points(room)
+            if room.spec.sun_points is None:
+                problems = []
+                for w in room.windows:  # the height rule needs no ray
+                    try:
+                        point_p_height(room, w)
+                    except NotAssessable as exc:
+                        problems.append(str(exc))
+                if len(problems) == len(room.windows):
+                    out[room.name] = "no window of the room has a point P: " + "; ".join(problems)
+        return out
 
     def assess(self, ctx: Context, room, plan, progress=None) -> SunlightResult:
         settings, location = self._settings(ctx)

@@ -8,6 +8,10 @@ from en17037cli.project.settings import Location, SunSettings
 from en17037cli.raytrace import RayEngine
 
 
+#: Times per call of the SPA (its nutation terms make (63, n) float arrays: 25 MB at this size).
+SPA_CHUNK = 50_000
+
+
 class SunVisibility:
     """Visibility of the sun from the P points of one room, vectorised over times."""
 
@@ -20,8 +24,12 @@ class SunVisibility:
     def __call__(self, t: np.ndarray) -> np.ndarray:
         """(n,) bool: the sun is seen from P through a window of the room at unix times ``t`` [s]."""
         c = self.settings
-        elev, azim = solar_position(t, self.loc.latitude, self.loc.longitude, self.loc.elevation_m,
-                                    c.pressure_mbar, c.temperature_c, refraction=c.refraction)
+        t = np.asarray(t, dtype=float)
+        elev, azim = np.empty(len(t)), np.empty(len(t))
+        for a in range(0, len(t), SPA_CHUNK):  # the SPA's periodic terms take (63, n) arrays: bounded memory
+            b = a + SPA_CHUNK
+            elev[a:b], azim[a:b] = solar_position(t[a:b], self.loc.latitude, self.loc.longitude, self.loc.elevation_m,
+                                                  c.pressure_mbar, c.temperature_c, refraction=c.refraction)
         up = elev >= c.min_altitude_deg
         seen = np.zeros(len(t), dtype=bool)
         if not up.any():

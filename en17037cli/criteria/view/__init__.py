@@ -13,6 +13,7 @@ from en17037cli.criteria.view.rays import ViewRays
 from en17037cli.criteria.view.report import view_section
 from en17037cli.criteria.view.results import ViewResult
 from en17037cli.criteria.view.viewpoints import viewpoints
+from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Project, ViewSettings
 from en17037cli.scene.model import room_window_group
 
@@ -33,7 +34,20 @@ class ViewCriterion(Criterion):
         return [room_window_group(r) for r in scene.rooms] + ["opaque"]
 
     def plan(self, ctx: Context, room):
-        return viewpoints(ctx.scene, room, self._settings(ctx))
+        plans = ctx.cache.setdefault("view_plans", {})
+        if room.name not in plans:
+            plans[room.name] = viewpoints(ctx.scene, room, self._settings(ctx))
+        return plans[room.name]
+
+    def check_inputs(self, ctx: Context) -> dict[str, str]:
+        out = {}
+        for room in ctx.scene.rooms:
+            if room.problem is None:
+                try:
+                    self.plan(ctx, room)
+                except NotAssessable as exc:
+                    out[room.name] = str(exc)
+        return out
 
     def size(self, plan) -> int:
         groups, _ = plan

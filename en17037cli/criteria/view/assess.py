@@ -20,11 +20,24 @@ from en17037cli.standard import Thresholds
 CELLS_PER_CHUNK = 300_000
 
 
+#: Viewpoints whose patches are made at once when sizing chunks (bounds memory for frames with many vertices).
+SIZING_BLOCK = 1024
+
+
+def cells_per_point(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> np.ndarray:
+    """Base cells of each viewpoint [-]: uniform lines and frame lines of each window's grid, multiplied."""
+    out = np.zeros(len(points))
+    for a in range(0, len(points), SIZING_BLOCK):  # blocks of points: bounded memory
+        P = patches(rg, points[a:a + SIZING_BLOCK], np.radians(settings.angular_resolution_deg))
+        fa = np.bincount(P.frame_pt[0], minlength=len(P))
+        fb = np.bincount(P.frame_pt[1], minlength=len(P))
+        out[a:a + SIZING_BLOCK] = np.bincount(P.pt, (P.na + fa) * (P.nb + fb), len(points[a:a + SIZING_BLOCK]))
+    return out
+
+
 def chunks(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> list[slice]:
     """Slices of ``points`` holding at most about :data:`CELLS_PER_CHUNK` base cells each."""
-    P = patches(rg, points, np.radians(settings.angular_resolution_deg))
-    per_point = np.bincount(P.pt, P.na * P.nb, len(points))
-    cum = np.cumsum(per_point)
+    cum = np.cumsum(cells_per_point(rg, points, settings))
     cuts = [0]
     while cuts[-1] < len(points):
         nxt = int(np.searchsorted(cum, (cum[cuts[-1] - 1] if cuts[-1] else 0) + CELLS_PER_CHUNK, side="right"))

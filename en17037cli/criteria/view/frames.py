@@ -36,6 +36,62 @@ class WindowFrame:
     face_ids: np.ndarray
     #: (e, 3) float [m]: vertices (x, y, s) of the window's frame, s along the outward normal
     frame_xys: np.ndarray = None
+    _tree: object = None
+    _outline: object = None
+
+    def _outline_index(self):
+        import shapely
+
+        if self._outline is None:
+            outline = shapely.union_all(shapely.polygons(self.tri2))
+            shapely.prepare(outline)
+            verts = shapely.get_coordinates(outline)
+            self._outline = (outline, shapely.STRtree(shapely.points(verts)))
+        return self._outline
+
+    def on_glazing(self, x, y) -> np.ndarray:
+        """Whether points (plane coordinates [m]) lie on the glazing (its outline polygon, edges included)."""
+        import shapely
+
+        return shapely.intersects_xy(self._outline_index()[0], x, y)
+
+    def classify_boxes(self, x0, x1, y0, y1) -> tuple[np.ndarray, np.ndarray]:
+        """Where axis-aligned boxes (plane coordinates [m]) lie against the glazing's outline.
+
+        Returns
+        -------
+        inside : (m,) bool, the four corners lie on the outline polygon (edges included) and no
+            vertex of the outline lies strictly inside the box (a slit narrower than a box that
+            crosses it whole would pass: no real window has one)
+        disjoint : (m,) bool, the box does not meet the outline polygon
+        """
+        import shapely
+
+        outline, vertex_tree = self._outline_index()
+        inside = np.ones(len(x0), dtype=bool)
+        for x, y in ((x0, y0), (x1, y0), (x0, y1), (x1, y1)):  # the four corners
+            inside &= shapely.intersects_xy(outline, x, y)
+        cand = np.flatnonzero(inside)
+        if len(cand):
+            q, _ = vertex_tree.query(shapely.box(x0[cand], y0[cand], x1[cand], y1[cand]), predicate="contains_properly")
+            inside[cand[np.unique(q)]] = False
+        disjoint = np.zeros(len(x0), dtype=bool)
+        other = np.flatnonzero(~inside)
+        if len(other):
+            disjoint[other] = ~shapely.intersects(outline, shapely.box(x0[other], y0[other], x1[other], y1[other]))
+        return inside, disjoint
+
+    def triangle_pairs(self, xmin, xmax, ymin, ymax) -> tuple[np.ndarray, np.ndarray]:
+        """(query index, triangle index) of every axis-aligned box (plane coordinates [m]) whose
+        bounding box meets a triangle's bounding box (touching included), from an STR tree of the
+        window's triangles: the candidates of exact tests, without a (boxes x triangles) array."""
+        import shapely
+
+        if self._tree is None:
+            self._tree = shapely.STRtree(shapely.polygons(self.tri2))
+        q, t = self._tree.query(shapely.box(xmin, ymin, xmax, ymax))
+        order = np.lexsort((t, q))
+        return q[order], t[order]
 
 
 def window_frame(window, index: int) -> WindowFrame:

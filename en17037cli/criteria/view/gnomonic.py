@@ -76,7 +76,47 @@ def patches(rg: RoomGeometry, points: np.ndarray, resolution_rad: float) -> Patc
     empty = (np.zeros(0, np.int64), np.zeros(0))
     fa = [np.concatenate(c) for c in zip(*fa)] if fa else empty
     fb = [np.concatenate(c) for c in zip(*fb)] if fb else empty
+    quantum = FRAME_LINE_QUANTUM * resolution_rad
+    fa = thin_breakpoints(*fa, cols[5], cols[6], quantum)
+    fb = thin_breakpoints(*fb, cols[7], cols[8], quantum)
     return Patches(*cols, frame_pt=(fa[0], fb[0]), frame_val=(fa[1], fb[1]))
+
+
+#: A patch with more frame breakpoints than this on an axis (a finely tessellated round or arched
+#: frame) keeps one per :data:`FRAME_LINE_QUANTUM` of the resolution ...
+MAX_FRAME_LINES = 64
+#: ... so its grid has at most about 1 / FRAME_LINE_QUANTUM times the uniform lines, and memory stays bounded.
+FRAME_LINE_QUANTUM = 1.0
+
+
+def thin_breakpoints(pt: np.ndarray, val: np.ndarray, lo: np.ndarray, hi: np.ndarray, quantum_rad: float):
+    """Frame breakpoints inside their patch's range, thinned where a patch has too many.
+
+    Breakpoints outside (lo, hi) of their patch draw no line and are dropped. A patch with more
+    than :data:`MAX_FRAME_LINES` keeps the first breakpoint in each ``quantum_rad`` bin: lines
+    that close resolve nothing a cell's corners would miss, while a few hundred vertices of a
+    tessellated round frame would multiply the cells a hundredfold. Straight mullions and
+    transoms give far fewer breakpoints and keep all of theirs.
+
+    Returns
+    -------
+    pt : (q,) int; val : (q,) float [rad]
+    """
+    inside = (val > lo[pt] + LINE_MERGE_RAD) & (val < hi[pt] - LINE_MERGE_RAD)
+    pt, val = pt[inside], val[inside]
+    if len(pt) == 0:
+        return pt, val
+    count = np.bincount(pt)
+    crowded = count[pt] > MAX_FRAME_LINES
+    if not crowded.any():
+        return pt, val
+    keep = ~crowded
+    cp, cv = pt[crowded], val[crowded]
+    bins = np.floor(cv / quantum_rad).astype(np.int64)
+    order = np.lexsort((cv, bins, cp))
+    first = np.r_[True, (cp[order][1:] != cp[order][:-1]) | (bins[order][1:] != bins[order][:-1])]
+    chosen = order[first]
+    return np.concatenate([pt[keep], cp[chosen]]), np.concatenate([val[keep], cv[chosen]])
 
 
 #: Grid lines of a patch closer than this are one line [rad].

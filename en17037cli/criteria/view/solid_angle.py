@@ -19,7 +19,7 @@ from en17037cli.criteria.view.frames import RoomGeometry
 from en17037cli.criteria.view.gnomonic import Patches, grid_lines, patches
 from en17037cli.criteria.view.rays import BLOCKED, GROUND_HIT, LANDSCAPE_HIT, SKY, ViewRays
 from en17037cli.criteria.view.results import SolidAngles
-from en17037cli.geometry import clipped_solid_angle, in_triangle, offset_rectangle_solid_angle, points_in_triangles
+from en17037cli.geometry import clipped_solid_angle, in_triangle, offset_rectangle_solid_angle
 from en17037cli.project.settings import ViewSettings
 
 
@@ -53,8 +53,7 @@ class Sampler:
                 sel = np.flatnonzero((w == f.index) & ~f.is_rectangle)
                 if len(sel):
                     ps = patch[sel]
-                    xy = np.column_stack([P.x0[ps] + P.d[ps] * X[sel], P.y0[ps] + P.d[ps] * Y[sel]])
-                    inside[sel] = points_in_triangles(xy, f.tri2)
+                    inside[sel] = f.on_glazing(P.x0[ps] + P.d[ps] * X[sel], P.y0[ps] + P.d[ps] * Y[sel])
             idx = np.flatnonzero(inside)
             patch, X, Y, w = patch[idx], X[idx], Y[idx], w[idx]
         secant = np.sqrt(1.0 + X * X + Y * Y)
@@ -92,7 +91,8 @@ def _cell_weights(rg: RoomGeometry, P: Patches, patch, G, full):
     whose corners may all lie outside the window (NaN elsewhere).
 
     Cells of rectangular windows, and cells already known to lie inside (``full``), weigh the
-    rectangle formula; the others are clipped against the window's triangles.
+    rectangle formula; the others are clipped against the window's triangles that overlap them
+    (found with an STR tree, so a finely tessellated round window costs no more than its overlaps).
 
     Parameters
     ----------
@@ -113,36 +113,46 @@ def _cell_weights(rg: RoomGeometry, P: Patches, patch, G, full):
         sel = np.flatnonzero((w == f.index) & ~f.is_rectangle & ~full)
         if len(sel) == 0:
             continue
-        ps = patch[sel]
-        # the window's triangles in each cell's gnomonic coordinates
-        g = (f.tri2[None, :, :, :] - np.stack([P.x0[ps], P.y0[ps]], axis=1)[:, None, None, :]) / P.d[ps][:, None, None, None]
-        x0, x1, y0, y1 = X0[sel], X1[sel], Y0[sel], Y1[sel]
-        corners = np.stack([np.stack([x0, y0], 1), np.stack([x1, y0], 1), np.stack([x0, y1], 1), np.stack([x1, y1], 1)], axis=1)
-        k = len(f.tri2)
-        ci, ti = np.divmod(np.arange(len(sel) * k), k)
-        tri = g[ci, ti]
-        lo, hi = tri.min(axis=1), tri.max(axis=1)
-        overlap = (lo[:, 0] < x1[ci]) & (hi[:, 0] > x0[ci]) & (lo[:, 1] < y1[ci]) & (hi[:, 1] > y0[ci])
-        ci, tri = ci[overlap], tri[overlap]
-        inside4 = np.ones(len(ci), dtype=bool)
-        for j in range(4):  # a cell whose four corners lie in one (convex) triangle lies inside it
-            inside4 &= in_triangle(corners[ci, j], tri)
-        is_full = np.zeros(len(sel), dtype=bool)
-        is_full[ci[inside4]] = True
-        part = ~is_full[ci]
-        ci, tri = ci[part], tri[part]
-        rect = np.column_stack([x0[ci], x1[ci], y0[ci], y1[ci]])
-        om, cen = clipped_solid_angle(tri, rect)
-        wsum = np.bincount(ci, om, len(sel))
-        # the centroid of the largest clipped piece: a point surely inside the window's part of the cell
-        order = np.lexsort((-om, ci))
-        first = order[np.r_[True, ci[order][1:] != ci[order][:-1]]] if len(ci) else order
-        ex = np.full((len(sel), 2), np.nan)
-        ex[ci[first]] = np.arctan(cen[first])
+        wsum, is_full, ex = _clip_cells(f, P, patch[sel], X0[sel], X1[sel], Y0[sel], Y1[sel])
         weight[sel] = np.where(is_full, weight[sel], wsum)
         full[sel] = is_full
         extra[sel] = np.where(is_full[:, None], np.nan, ex)
     return weight, full, extra
+
+
+def _clip_cells(f, P: Patches, ps, x0, x1, y0, y1):
+    """Cells (bounds in gnomonic coordinates of their patches ``ps``) clipped against the
+    triangles of window frame ``f``: summed solid angle [sr], whether the cell lies inside one
+    triangle, and the centroid [rad] of its largest clipped piece (a point surely inside)."""
+    n = len(ps)
+    d, px, py = P.d[ps], P.x0[ps], P.y0[ps]
+    is_full = disjoint = np.zeros(n, dtype=bool)
+    if len(f.tri2) > 1:  # cells inside the glazing, or away from it, need no clipping against its many triangles
+        is_full, disjoint = f.classify_boxes(px + d * x0, px + d * x1, py + d * y0, py + d * y1)
+    rest = np.flatnonzero(~is_full & ~disjoint)
+    ci, ti = f.triangle_pairs(px[rest] + d[rest] * x0[rest], px[rest] + d[rest] * x1[rest],
+                              py[rest] + d[rest] * y0[rest], py[rest] + d[rest] * y1[rest])
+    ci = rest[ci]
+    # the overlapping triangles in each cell's gnomonic coordinates
+    tri = (f.tri2[ti] - np.stack([px[ci], py[ci]], axis=1)[:, None, :]) / d[ci][:, None, None]
+    corners = np.stack([np.stack([x0, y0], 1), np.stack([x1, y0], 1), np.stack([x0, y1], 1), np.stack([x1, y1], 1)], axis=1)
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    overlap = (lo[:, 0] < x1[ci]) & (hi[:, 0] > x0[ci]) & (lo[:, 1] < y1[ci]) & (hi[:, 1] > y0[ci])
+    ci, tri = ci[overlap], tri[overlap]
+    inside4 = np.ones(len(ci), dtype=bool)
+    for j in range(4):  # a cell whose four corners lie in one (convex) triangle lies inside it
+        inside4 &= in_triangle(corners[ci, j], tri)
+    is_full[ci[inside4]] = True
+    part = ~is_full[ci]
+    ci, tri = ci[part], tri[part]
+    rect = np.column_stack([x0[ci], x1[ci], y0[ci], y1[ci]])
+    om, cen = clipped_solid_angle(tri, rect)
+    wsum = np.bincount(ci, om, n)
+    order = np.lexsort((-om, ci))
+    first = order[np.r_[True, ci[order][1:] != ci[order][:-1]]] if len(ci) else order
+    ex = np.full((n, 2), np.nan)
+    ex[ci[first]] = np.arctan(cen[first])
+    return wsum, is_full, ex
 
 
 #: Sample classes that are layers, with their report keys.

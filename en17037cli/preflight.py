@@ -1,0 +1,152 @@
+"""Checks before any result: what ``validate`` reports and what ``check`` finds before its criteria run.
+
+Both commands call :func:`preflight`, so ``validate`` says what ``check`` will say, in the same
+words: input errors (exit 2) for contradictions in the project file and for runs over the cost
+budget; warnings for windows no ray can leave through; and, per room and criterion, why it
+cannot be assessed.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from en17037cli.criteria import CRITERIA, Context
+from en17037cli.errors import InputError
+from en17037cli.geometry import points_in_triangles, window_axes
+from en17037cli.project.settings import Project
+from en17037cli.raytrace import RayEngine
+from en17037cli.scene.model import Scene, room_window_group
+
+#: Default budget: viewpoints of a run (all rooms and eye heights). A viewpoint's results take
+#: about 10 kB in memory and in report.json, so this keeps a check within about 2 GB.
+MAX_POINTS = 100_000
+#: Sampling cells per viewpoint the budget allows on average (the seed office needs about 9,000).
+CELLS_PER_POINT = 20_000
+#: Sun samples of one room (days x samples a day) the budget allows.
+MAX_SUN_SAMPLES = 20_000_000
+
+
+@dataclass
+class Preflight:
+    """What was found before the criteria run.
+
+    warnings : one line each, for the report and ``validate``
+    unassessable : criterion -> room name -> reason found without a ray
+    points, cells : estimated viewpoints and sampling cells of the run
+    """
+
+    warnings: list[str] = field(default_factory=list)
+    unassessable: dict[str, dict[str, str]] = field(default_factory=dict)
+    points: int = 0
+    cells: float = 0.0
+
+
+def estimate_room_points(room, settings) -> int:
+    """Viewpoints of a room before making them: explicit points, or the grid over the floor's
+    minimum rotated rectangle at each eye height (what the grid allocates)."""
+    import shapely
+
+    if room.spec.view_points is not None:
+        return len(room.spec.view_points)
+    if room.floor.is_empty:
+        return 0
+    rect = np.asarray(shapely.minimum_rotated_rectangle(room.floor).exterior.coords)[:3]
+    sides = np.linalg.norm(np.diff(rect, axis=0), axis=1)
+    per_height = np.prod(np.floor(sides / settings.grid_spacing_m + 1e-9) + 1)
+    return int(min(per_height * len(settings.eye_heights_m), 1e15))
+
+
+def estimate_cells_per_point(room, settings) -> float:
+    """Sampling cells of one viewpoint: the windows' solid angle seen from the floor's centroid at
+    the first eye height [sr] over the cell size [sr]. An estimate, for the budget only."""
+    if room.floor.is_empty or not room.windows:
+        return 0.0
+    c = np.array([room.floor.centroid.x, room.floor.centroid.y, room.floor_z + settings.eye_heights_m[0]])
+    omega = sum(min(2 * np.pi, w.area_m2 * abs(np.dot(w.normal, (w.centroid - c))) / max(np.linalg.norm(w.centroid - c), 0.1) ** 3)
+                for w in room.windows)
+    return omega / np.radians(settings.angular_resolution_deg) ** 2
+
+
+def check_budget(project: Project, scene: Scene, max_points: int) -> tuple[int, float]:
+    """Raise :class:`InputError` when the run's estimated viewpoints, cells or sun samples exceed
+    the budget (``--max-points`` raises it); return (points, cells)."""
+    where = project.path.name
+    points, cells = 0, 0.0
+    if project.view is not None:
+        for room in scene.rooms:  # one estimate per room
+            n = estimate_room_points(room, project.view)
+            c = n * estimate_cells_per_point(room, project.view)
+            points, cells = points + n, cells + c
+            if points > max_points or cells > max_points * CELLS_PER_POINT:
+                raise InputError(
+                    f"{where}: rooms[{room.spec.index}] '{room.name}': about {n:,.0f} viewpoints and {c:,.0f} sampling cells, "
+                    f"over the budget of {max_points:,} viewpoints ({max_points * CELLS_PER_POINT:,.0f} cells) a run may have; "
+                    "check the floor's units and view.grid_spacing_m / view.angular_resolution_deg, or raise --max-points")
+    if project.sunlight is not None:
+        s = project.sunlight
+        from en17037cli.criteria.sunlight.intervals import day_bounds
+
+        days = len(day_bounds(s.year, s.period_start, s.period_end, "UTC")[0])
+        samples = days * np.ceil(86400.0 / (s.timestep_min * 60.0))
+        if samples > MAX_SUN_SAMPLES:
+            raise InputError(f"{where}: sunlight: {days} days at {s.timestep_min:g} min make {samples:,.0f} sun samples a room, "
+                             f"over the {MAX_SUN_SAMPLES:,} a run may have; shorten the period or lengthen timestep_min")
+    return points, cells
+
+
+def sample_points(window, n: int = 3) -> np.ndarray:
+    """Up to n x n points [m] spread over a window's glazing (a grid over its bounding box in its
+    plane, inset by a sixth, kept where it lies on the glazing)."""
+    a, up = window_axes(window.normal)
+    rel = window.triangles - window.centroid
+    x, y = rel @ a, rel @ up
+    gx = np.linspace(x.min(), x.max(), 2 * n + 1)[1::2]
+    gy = np.linspace(y.min(), y.max(), 2 * n + 1)[1::2]
+    X, Y = (g.ravel() for g in np.meshgrid(gx, gy))
+    inside = points_in_triangles(np.column_stack([X, Y]), np.stack([x, y], axis=-1))
+    return window.centroid + X[inside, None] * a + Y[inside, None] * up
+
+
+def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
+    """Warnings for windows through which no ray from the room leaves: rays from 0.3, 1 and 2 m
+    inside the room, straight and at 30 degrees, through points spread over the glazing."""
+    from en17037cli.criteria.view.rays import BLOCKED, ViewRays
+
+    view_rays = ViewRays(engine, scene)
+    out = []
+    tilt = np.radians(30.0)
+    for room in scene.rooms:
+        for w in room.windows:  # a few rays per window
+            n = np.asarray(w.normal, float)
+            a, up = window_axes(n)
+            targets = sample_points(w)
+            dirs = np.array([n, np.cos(tilt) * n + np.sin(tilt) * a, np.cos(tilt) * n - np.sin(tilt) * a,
+                             np.cos(tilt) * n + np.sin(tilt) * up, np.cos(tilt) * n - np.sin(tilt) * up])
+            o = (targets[:, None, None, :] - np.array([0.3, 1.0, 2.0])[None, :, None, None] * dirs[None, None, :, :]).reshape(-1, 3)
+            d = np.broadcast_to(dirs[None, None], (len(targets), 3, 5, 3)).reshape(-1, 3)
+            cls = view_rays.through_windows(room_window_group(room), o, np.ascontiguousarray(d))[0]
+            if len(cls) and np.all(cls == BLOCKED):
+                out.append(f"room '{room.name}', window '{w.name}': no ray from the room leaves through it (an opaque face "
+                           "lies between the room and the glazing, or beyond it: a wall with no opening cut?); it adds no view "
+                           "and no sun")
+    return out
+
+
+def layer_warnings(scene: Scene) -> list[str]:
+    """Warnings about layers: a model with no ``interior`` face (nothing in the room blocks)."""
+    counts = scene.layer_counts()
+    return [] if counts["interior"] else ["no face is on the 'interior' layer: walls, reveals and frames will block nothing; "
+                                          "check the layer rules"]
+
+
+def preflight(ctx: Context, max_points: int = MAX_POINTS) -> Preflight:
+    """Everything the run can find before its criteria: see the module docstring."""
+    project, scene = ctx.project, ctx.scene
+    pf = Preflight(warnings=layer_warnings(scene) + scene.warnings)
+    pf.points, pf.cells = check_budget(project, scene, max_points)
+    for name, c in CRITERIA.items():
+        if c.settings(project) is not None:
+            pf.unassessable[name] = c.check_inputs(ctx)
+    pf.warnings += windows_without_a_way_out(scene, ctx.engine)
+    return pf
