@@ -11,9 +11,9 @@ import zoneinfo
 from en17037cli.criteria.base import Context, Criterion
 from en17037cli.criteria.sunlight.assess import assess_room, check_sun_points
 from en17037cli.criteria.sunlight.point_p import point_p_height
-from en17037cli.errors import NotAssessable
 from en17037cli.criteria.sunlight.report import sunlight_section
 from en17037cli.criteria.sunlight.results import SunlightResult
+from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Location, Project, SunSettings
 from en17037cli.scene.model import room_window_group
 

@@ -7,7 +7,6 @@ from en17037cli.criteria.sunlight.solar_position import direction_vectors, solar
 from en17037cli.project.settings import Location, SunSettings
 from en17037cli.raytrace import RayEngine
 
-
 #: Times per call of the SPA (its nutation terms make (63, n) float arrays: 25 MB at this size).
 SPA_CHUNK = 50_000
 
