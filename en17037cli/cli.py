@@ -228,7 +228,7 @@ def validate(project_file: Path, overrides, max_points, objects):
                    f"z {room.ceiling_z + scene.origin[2]:.3f} m ({room.ceiling_source}), {len(room.windows)} window(s)")
         for w in room.windows:
             bounding.add(w.name)
-            n = ", ".join(f"{c:.4f}" for c in w.normal)
+            n = ", ".join(f"{round(c, 4) + 0.0:.4f}" for c in w.normal)  # + 0.0: no "-0.0000"
             click.echo(f"  window '{w.name}': {w.area_m2:.3f} m², outward normal ({n}), {len(w.face_ids)} faces; "
                        f"bounds the room: {room.window_reasons[w.name]}")
         for crit, rooms in pf.unassessable.items():

@@ -28,7 +28,7 @@ def match_candidates(part: Part, stem: str) -> list[str]:
 
 
 def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """Per-face layer code (-1 for ignore) and obstructs_sun flag of one model file, and warnings.
+    """Per-part layer code (-1 for ignore) and obstructs_sun flag of one model file, and warnings.
 
     A file-wide ``layer`` wins; otherwise the first rule whose glob matches one of the part's
     names (:func:`match_candidates`); otherwise the format's default layer of the part (IFC and
@@ -39,7 +39,7 @@ def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[n
     if spec.layer is not None:
         by_part = np.full(n, layer_code(spec.layer))
         sun = np.full(n, spec.obstructs_sun)
-        return by_part[mesh.part], sun[mesh.part], []
+        return by_part, sun, []
     by_part = np.empty(n, dtype=int)
     sun = np.empty(n, dtype=bool)
     used = [False] * len(spec.rules)
@@ -66,4 +66,4 @@ def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[n
     warnings = [f"{where}.layers[{k}] (match: '{r.match}', layer: {r.layer}): matches no object of {spec.display}; "
                 "check the name (validate --objects lists them)" for k, (r, u) in enumerate(zip(spec.rules, used))
                 if not u and r.match != "*"]
-    return by_part[mesh.part], sun[mesh.part], warnings
+    return by_part, sun, warnings

@@ -46,7 +46,7 @@ def load_geometry(model: ModelSettings, where: str) -> Geometry:
     """
     all_v, all_t, all_l, all_s, all_p, parts, notes, warnings, hashes = [], [], [], [], [], [], [], [], {}
     offset = 0
-    dropped = dropped_glazing = 0
+    dropped = glazing_parts = 0
     for i, spec in enumerate(model.files):  # one pass per model file
         if spec.all_ignored:
             notes.append(f"{spec.display}: every face goes to 'ignore'; file not loaded")
@@ -57,8 +57,10 @@ def load_geometry(model: ModelSettings, where: str) -> Geometry:
         units = spec.units or mesh.units or model.units
         up = spec.up_axis or mesh.up_axis or model.up_axis
         verts = to_metres_z_up(mesh.vertices, units, up)
-        layer, sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
+        part_layer, part_sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
         warnings.extend(unmatched)
+        glazing_parts += int(np.count_nonzero(part_layer == WINDOW))
+        layer, sun = part_layer[mesh.part], part_sun[mesh.part]
         tris = mesh.triangles
         keep = layer >= 0
         tri_v = verts[tris]
@@ -66,7 +68,6 @@ def load_geometry(model: ModelSettings, where: str) -> Geometry:
         _, areas = triangle_normals(np.where(finite[:, None, None], tri_v, 0.0))
         good = finite & (areas > MIN_FACE_AREA_M2)
         dropped += int(np.count_nonzero(keep & ~good))
-        dropped_glazing += int(np.count_nonzero(keep & ~good & (layer == WINDOW)))
         keep &= good
         all_v.append(np.where(np.isfinite(verts), verts, 0.0))
         all_t.append(tris[keep] + offset)
@@ -81,7 +82,7 @@ def load_geometry(model: ModelSettings, where: str) -> Geometry:
         raise InputError(f"{where}: model.files: no geometry loaded (every file is 'ignore')")
     g = Geometry(np.concatenate(all_v), np.concatenate(all_t).astype(np.int64), np.concatenate(all_l).astype(np.int8),
                  np.concatenate(all_s), parts, np.concatenate(all_p), notes, warnings, hashes)
-    if dropped_glazing and not np.any(g.layer == WINDOW):
-        raise InputError(f"{where}: model.files: every one of the {dropped_glazing} faces on the 'window' layer is degenerate, "
-                         "NaN or infinite (zero area); re-export the glazing")
+    if glazing_parts and not np.any(g.layer == WINDOW):
+        raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
+                         "degenerate, NaN or infinite (zero area); re-export the glazing")
     return g

@@ -30,6 +30,11 @@ MIN_OVER_FLOOR_SHARE = 0.5
 WALL_WINDOW_MAX_NZ = 0.5
 #: Points along a wall window's width tested against the floor outline.
 WIDTH_SAMPLES = 11
+#: The sweep from a wall window towards each side starts this far off its plane, so that glazing
+#: on the floor's very outline (a wall of no thickness) is not on both sides at once [m].
+SIDE_OFFSET_M = 1e-3
+#: Heights closer than this are equal when comparing glazing with floor and ceiling [m].
+HEIGHT_TOL_M = 0.01
 
 
 @dataclass(frozen=True)
@@ -77,20 +82,24 @@ def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_
     """Whether ``window`` bounds the room with ``floor`` (shapely Polygon, local xy [m]) between
     ``floor_z`` and ``ceiling_z`` [m].
 
-    A wall window bounds the room when at least :data:`MIN_OVER_FLOOR_SHARE` of its width, moved
-    at most ``margin_m`` [m] horizontally to one side of its plane, lies over the floor; that side
-    is the room's, and the outward normal points to the other. Roof glazing (flatter than
-    :data:`WALL_WINDOW_MAX_NZ`) bounds it when that share of its plan area lies over the floor
-    grown by the margin; it faces up. In both cases the glazing must reach between floor and
-    ceiling + margin. ``z_world`` [m] turns local heights into the model's for the reason.
+    A wall window bounds the room when at least half its height lies between floor and ceiling
+    and at least :data:`MIN_OVER_FLOOR_SHARE` of its width, moved at most ``margin_m`` [m]
+    horizontally to one side of its plane, lies over the floor; that side is the room's, and the
+    outward normal points to the other. Roof glazing (flatter than :data:`WALL_WINDOW_MAX_NZ`)
+    bounds it when its lowest point lies between the floor and the ceiling + margin (a light well)
+    and that share of its plan area lies over the floor grown by the margin; it faces up.
+    ``z_world`` [m] turns local heights into the model's for the reason.
     """
     import shapely
 
     lo, hi = window.sill_z, window.head_z
     n = np.asarray(window.normal, float)
-    if hi < floor_z - 1e-6 or lo > ceiling_z + margin_m:
-        return Bounding(False, 0.0, n, f"its glazing (z {lo + z_world:.2f} to {hi + z_world:.2f} m) is not between floor and ceiling")
-    if abs(n[2]) >= WALL_WINDOW_MAX_NZ:
+    roof = abs(n[2]) >= WALL_WINDOW_MAX_NZ
+    inside = min(hi, ceiling_z) - max(lo, floor_z)
+    if (roof and not floor_z <= lo <= ceiling_z + margin_m) or (not roof and inside < 0.5 * (hi - lo) - HEIGHT_TOL_M):
+        return Bounding(False, 0.0, n, f"its glazing (z {lo + z_world:.2f} to {hi + z_world:.2f} m) is not between floor "
+                        f"(z {floor_z + z_world:.2f} m) and ceiling (z {ceiling_z + z_world:.2f} m)")
+    if roof:
         plan = shapely.union_all(shapely.make_valid(shapely.polygons(window.triangles[..., :2])))
         share = plan.intersection(floor.buffer(margin_m, join_style="mitre")).area / max(plan.area, 1e-12)
         up = n if n[2] > 0 else -n
@@ -105,12 +114,13 @@ def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_
     t = np.linspace(0.05, 0.95, WIDTH_SAMPLES)
     along = s.min() + t * (s.max() - s.min()) - c @ a
     starts = c[None, :2] + along[:, None] * a[None, :2]
-    share = {}
-    for side in (1.0, -1.0):  # the two sides of the glazing: +h and -h
-        ends = starts + side * margin_m * h[None, :2]
-        lines = shapely.linestrings(np.stack([starts, ends], axis=1))
+    share, length = {}, {}
+    for side in (1.0, -1.0):  # the two sides of the glazing: +h and -h, from just off its plane
+        lines = shapely.linestrings(np.stack([starts + side * SIDE_OFFSET_M * h[None, :2],
+                                              starts + side * margin_m * h[None, :2]], axis=1))
         share[side] = float(np.mean(shapely.intersects(lines, floor)))
-    side = 1.0 if share[1.0] > share[-1.0] else -1.0
+        length[side] = float(np.sum(shapely.length(shapely.intersection(lines, floor))))
+    side = 1.0 if (share[1.0], length[1.0]) > (share[-1.0], length[-1.0]) else -1.0
     ok = share[side] >= MIN_OVER_FLOOR_SHARE
     outward = -side * n  # h is n's horizontal part: the room lies towards side * n
     return Bounding(ok, share[side], outward,

@@ -119,7 +119,7 @@ def horizontal(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settin
     inset = np.minimum(0.5 * tol, 0.25 * width)
     n = np.maximum(np.ceil(width / res - 1e-9), 1).astype(np.int64)
     cnt = n + 1
-    base = np.concatenate([[0], np.cumsum(cnt)[:-1]]).astype(np.int64)
+    base = (np.cumsum(cnt) - cnt).astype(np.int64)
     iv = np.repeat(np.arange(len(ipt)), cnt)
     k = np.arange(cnt.sum()) - base[iv]
     lo_edge, hi_edge = start + inset, start + width - inset

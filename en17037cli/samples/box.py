@@ -154,8 +154,12 @@ def write_obj(path: Path, objects: dict, offset=(0.0, 0.0, 0.0), rotate_deg: flo
 SCALE_UNITS = {1.0: "m", 100.0: "cm", 1000.0: "mm"}
 
 
+#: The default of a project section: present, with every key at its default ({}).
+DEFAULTS: dict = {}
+
+
 def box_room_project(directory: Path, b: BoxRoom | None = None, offset=(0.0, 0.0, 0.0), name="Synthetic street",
-                     sunlight: dict | None = None, view: dict | None = None, location: dict | None = None,
+                     sunlight: dict | None = DEFAULTS, view: dict | None = DEFAULTS, location: dict | None = None,
                      rotate_deg: float = 0.0, scale: float = 1.0, split_files: bool = False,
                      shuffle_seed: int | None = None, true_north_deg: float | None = None) -> Path:
     """Write the model and ``project.yaml`` of a box-room scene into ``directory``; return the project path.
@@ -163,7 +167,8 @@ def box_room_project(directory: Path, b: BoxRoom | None = None, offset=(0.0, 0.0
     ``rotate_deg`` turns the model counter-clockwise about +z (true north is turned with it),
     ``scale`` writes it in cm (100) or mm (1000), ``split_files`` writes one OBJ per object and
     ``shuffle_seed`` shuffles the face order: the answers must not change. ``true_north_deg``
-    overrides the true north that follows the rotation.
+    overrides the true north that follows the rotation. ``view`` / ``sunlight``: the project's
+    sections; None leaves the section out.
     """
     import yaml
 
@@ -191,10 +196,13 @@ def box_room_project(directory: Path, b: BoxRoom | None = None, offset=(0.0, 0.0
         "model": {"units": units, "up_axis": "z", "true_north_deg": float((-rotate_deg) % 360.0 if true_north_deg is None else true_north_deg), "files": files},
         "location": location or {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
         "rooms": [{"name": "box room", "floor_z": float(offset[2])}],
-        "view": view if view is not None else {},
-        "sunlight": sunlight if sunlight is not None else {},
+        "view": {} if view is DEFAULTS else view,
+        "sunlight": {} if sunlight is DEFAULTS else sunlight,
         "requirements": {"view": "medium", "sunlight": "minimum"},
     }
+    for key in ("view", "sunlight"):  # None leaves the section out (the check does not run)
+        if project[key] is None:
+            del project[key]
     path = directory / "project.yaml"
     path.write_text(yaml.safe_dump(project, sort_keys=False), encoding="utf-8")
     return path
@@ -240,66 +248,3 @@ def layer_solid_angles(p, box: BoxRoom) -> tuple[float, float, float]:
     land = rect_solid_angle_y0(a, b, max(z_base, lo), min(z_top, hi), p)
     ground = rect_solid_angle_y0(a, b, lo, min(z_base, hi), p)
     return sky, land, ground
-
-
-def city_context(n_triangles: int, seed: int = 0, keep_clear=(-40.0, 40.0, -60.0, 30.0), extent_m: float = 1000.0):
-    """A generated city of box buildings with finely meshed faces, about ``n_triangles`` triangles.
-
-    Buildings stand on a grid over a square of side ``extent_m`` centred on the origin, outside the
-    rectangle ``keep_clear`` (x0, x1, y0, y1) [m] around the box room and its street; each has four
-    walls and a roof split into k x k quads (two triangles each), like detailed facade models.
-    Deterministic for a given ``seed``.
-
-    Returns
-    -------
-    vertices : (n, 3) float [m]; faces : (m, 3) int
-    """
-    rng = np.random.default_rng(seed)
-    k = 7  # quads per face side: 5 faces x 2 k^2 = 490 triangles per building
-    per_building = 5 * 2 * k * k
-    want = max(1, int(round(n_triangles / per_building)))
-    side = int(np.ceil(np.sqrt(want * 1.3))) + 1
-    cells = (np.arange(side) + 0.5) / side * extent_m - extent_m / 2
-    cx, cy = [a.ravel() for a in np.meshgrid(cells, cells, indexing="ij")]
-    x0, x1, y0, y1 = keep_clear
-    pad = extent_m / side
-    free = ~((cx > x0 - pad) & (cx < x1 + pad) & (cy > y0 - pad) & (cy < y1 + pad))
-    pick = np.sort(rng.choice(int(free.sum()), size=min(want, int(free.sum())), replace=False))
-    cx, cy = cx[free][pick], cy[free][pick]
-    b = len(cx)
-    w = rng.uniform(0.3, 0.8, b) * pad
-    length = rng.uniform(0.3, 0.8, b) * pad
-    h = rng.uniform(6.0, 40.0, b)
-    o = np.stack([cx - w / 2, cy - length / 2, np.zeros(b)], axis=1)
-    ex = np.stack([w, np.zeros(b), np.zeros(b)], axis=1)
-    ey = np.stack([np.zeros(b), length, np.zeros(b)], axis=1)
-    ez = np.stack([np.zeros(b), np.zeros(b), h], axis=1)
-    # five faces per building: origin and two edge vectors
-    origins = np.stack([o, o + ey, o, o + ex, o + ez], axis=1)
-    e1 = np.stack([ex, ex, ey, ey, ex], axis=1)
-    e2 = np.stack([ez, ez, ez, ez, ey], axis=1)
-    s = np.linspace(0.0, 1.0, k + 1)
-    a, c = [g.ravel() for g in np.meshgrid(s, s, indexing="ij")]
-    verts = origins[:, :, None, :] + a[None, None, :, None] * e1[:, :, None, :] + c[None, None, :, None] * e2[:, :, None, :]
-    i, j = [g.ravel() for g in np.meshgrid(np.arange(k), np.arange(k), indexing="ij")]
-    v00 = i * (k + 1) + j
-    quad = np.stack([v00, v00 + k + 1, v00 + k + 2, v00 + 1], axis=1)
-    tmpl = np.concatenate([quad[:, [0, 1, 2]], quad[:, [0, 2, 3]]])  # (2 k^2, 3) per face
-    nv = (k + 1) ** 2
-    offsets = (np.arange(b * 5) * nv)[:, None, None]
-    faces = (tmpl[None, :, :] + offsets).reshape(-1, 3)
-    return verts.reshape(-1, 3), faces
-
-
-def write_ply(path: Path, vertices: np.ndarray, faces: np.ndarray) -> None:
-    """Write a binary little-endian PLY file (float32 vertices, int32 triangle indices)."""
-    v = np.ascontiguousarray(vertices, dtype="<f4")
-    f = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", (3,))])
-    f["n"] = 3
-    f["i"] = faces
-    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\n"
-              f"property float z\nelement face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n")
-    with open(path, "wb") as fh:
-        fh.write(header.encode("ascii"))
-        fh.write(v.tobytes())
-        fh.write(f.tobytes())
