@@ -83,6 +83,7 @@ Not read: appearances (materials, textures), Extensions' schemas, ``geographical
 """
 from __future__ import annotations
 
+import gc
 import json
 import re
 from itertools import chain, pairwise
@@ -194,6 +195,17 @@ def read_cityjson(path: Path, options: ReadOptions | None = None) -> Mesh:
     """
     path = Path(path)
     options = options or ReadOptions()
+    gc_enabled = gc.isenabled()
+    gc.disable()  # JSON trees hold no reference cycles; collecting during the parse triples its time
+    try:
+        return _read(path, options)
+    finally:
+        if gc_enabled:
+            gc.enable()
+
+
+def _read(path: Path, options: ReadOptions) -> Mesh:
+    """The work of :func:`read_cityjson`."""
     name = path.name
     lod_req = _parse_lod_request(path, options.lod)
     docs = _load_documents(path)
@@ -793,11 +805,11 @@ class _Builder:
             n_failed += _count_lost_area(pts, vertices[t], poly, len(rows))
             out_t.append(t)
             out_s.append(rows[poly])
-        for r in np.flatnonzero(holes):
-            t, lost = _triangulate_with_holes(vertices, gidx, ring_start, ring_len, int(first_ring[r]), int(s_nrings[r]))
+        if holes.any():
+            t, surf, lost = _triangulate_with_holes(vertices, gidx, ring_start, ring_len, first_ring, s_nrings, np.flatnonzero(holes))
             n_failed += lost
             out_t.append(t)
-            out_s.append(np.full(len(t), r))
+            out_s.append(surf)
         name = self.path.name
         if n_degenerate:
             warnings.append(f"{name}: {n_degenerate} surfaces with fewer than 3 vertices dropped")
@@ -823,34 +835,74 @@ def _count_lost_area(polys: np.ndarray, tri_pts: np.ndarray, poly: np.ndarray, n
     return int((covered < area * (1 - 1e-3) - 1e-9).sum())
 
 
-def _triangulate_with_holes(vertices, gidx, ring_start, ring_len, r0: int, nr: int) -> tuple[np.ndarray, int]:
-    """Ear-clip one surface with holes in the best-fit plane of its outer ring; (t, 3) global indices and 1 if area was lost."""
+def _triangulate_with_holes(vertices, gidx, ring_start, ring_len, first_ring, s_nrings, rows) -> tuple[np.ndarray, np.ndarray, int]:
+    """Ear-clip surfaces with holes, each in the best-fit (Newell) plane of its outer ring.
+
+    The planes, the 2D projections and the areas are computed for all the surfaces at once;
+    mapbox-earcut then runs once per surface with the ring ends (its hole indices).
+
+    Parameters
+    ----------
+    vertices : (n, 3) float [m]
+    gidx : (v,) int, global vertex index of every ring vertex, rings one after the other
+    ring_start, ring_len : (r,) int, each ring's offset into ``gidx`` and vertex count
+    first_ring, s_nrings : (s,) int, each surface's first ring and ring count
+    rows : (h,) int, the surfaces to triangulate (two or more rings each)
+
+    Returns
+    -------
+    triangles : (t, 3) int, global vertex indices
+    surface : (t,) int, the surface (a value of ``rows``) of each triangle
+    lost : how many surfaces' triangles cover less than 99.9 % of their area
+    """
     import mapbox_earcut
 
-    lens = ring_len[r0:r0 + nr]
-    ok = np.r_[True, lens[1:] >= 3]  # inner rings with fewer than 3 vertices are no holes
-    starts = ring_start[r0:r0 + nr][ok]
-    lens = lens[ok]
-    ids = np.concatenate([gidx[s:s + n] for s, n in zip(starts, lens)])
+    nr = s_nrings[rows]
+    ring = np.repeat(first_ring[rows] - np.cumsum(nr) + nr, nr) + np.arange(nr.sum())  # ring ids, surface by surface
+    ring_surf = np.repeat(np.arange(len(rows)), nr)
+    is_outer = np.r_[True, ring_surf[1:] != ring_surf[:-1]]
+    ok = is_outer | (ring_len[ring] >= 3)  # inner rings with fewer than 3 vertices are no holes
+    ring, ring_surf, is_outer = ring[ok], ring_surf[ok], is_outer[ok]
+    lens = ring_len[ring]
+    off = np.cumsum(lens) - lens
+    ids = gidx[np.repeat(ring_start[ring] - off, lens) + np.arange(lens.sum())]
     pts = vertices[ids]
-    outer = pts[:lens[0]]
-    c = outer.mean(axis=0)
-    nrm = np.cross(outer - c, np.roll(outer, -1, axis=0) - c).sum(axis=0)
-    norm = np.linalg.norm(nrm)
-    if not np.isfinite(norm) or norm == 0:
-        return np.zeros((0, 3), dtype=np.int64), 0
-    nrm /= norm
-    helper = np.array([0.0, 0.0, 1.0]) if abs(nrm[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    u = np.cross(helper, nrm)
-    u /= np.linalg.norm(u)
-    v = np.cross(nrm, u)
-    flat = np.stack([(pts - c) @ u, (pts - c) @ v], axis=1)
-    local = mapbox_earcut.triangulate_float64(flat, np.cumsum(lens).astype(np.uint32)).reshape(-1, 3).astype(np.int64)
-    tri = pts[local]
-    got = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum()
-    bounds = np.cumsum(np.r_[0, lens])
-    want = 0.5 * norm - sum(_newell_area(pts[a:b][None])[0] for a, b in pairwise(bounds[1:]))
-    return ids[local], int(got < want * (1 - 1e-3) - 1e-9)
+    vert_ring = np.repeat(np.arange(len(ring)), lens)
+    centre = np.add.reduceat(pts, off, axis=0) / lens[:, None]
+    nxt = np.arange(len(pts)) + 1
+    nxt[off + lens - 1] = off
+    c = pts - centre[vert_ring]
+    newell = np.add.reduceat(np.cross(c, c[nxt]), off, axis=0)  # (rings, 3): twice the area vector
+    ring_area = 0.5 * np.linalg.norm(newell, axis=1)
+    outer = np.flatnonzero(is_outer)
+    n = newell[outer]
+    norm = np.linalg.norm(n, axis=1)
+    good = np.isfinite(norm) & (norm > 0)
+    n = np.where(good[:, None], n / np.where(good, norm, 1.0)[:, None], [0.0, 0.0, 1.0])
+    helper = np.where((np.abs(n[:, 2]) < 0.9)[:, None], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+    u = np.cross(helper, n)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(n, u)
+    vert_surf = ring_surf[vert_ring]
+    d = pts - centre[outer][vert_surf]
+    flat = np.stack([np.einsum("ij,ij->i", d, u[vert_surf]), np.einsum("ij,ij->i", d, v[vert_surf])], axis=1)
+    s_off = off[outer]
+    s_end = np.r_[s_off[1:], len(pts)]
+    r_end = off + lens  # ring ends, global; minus the surface's offset gives earcut's ring_end_indices
+    r_bounds = np.r_[outer, len(ring)]
+    out = []
+    for i in np.flatnonzero(good):
+        a = s_off[i]
+        loc = mapbox_earcut.triangulate_float64(flat[a:s_end[i]], (r_end[r_bounds[i]:r_bounds[i + 1]] - a).astype(np.uint32))
+        out.append(loc.astype(np.int64) + a)
+    loc = np.concatenate(out).reshape(-1, 3) if out else np.zeros((0, 3), dtype=np.int64)
+    tri_surf = vert_surf[loc[:, 0]]
+    tp = pts[loc]
+    tri_area = 0.5 * np.linalg.norm(np.cross(tp[:, 1] - tp[:, 0], tp[:, 2] - tp[:, 0]), axis=1)
+    covered = np.bincount(tri_surf, weights=tri_area, minlength=len(rows))
+    want = np.bincount(ring_surf, weights=np.where(is_outer, ring_area, -ring_area), minlength=len(rows))
+    lost = int((good & (covered < want * (1 - 1e-3) - 1e-9)).sum())
+    return ids[loc], rows[tri_surf], lost
 
 
 # ---------------------------------------------------------------------------------------------
