@@ -40,7 +40,8 @@ G, W, R = 0, 1, 2
 
 def gabled(w: float, d: float, h: float, ridge: float):
     """Box w x d [m], eaves at h, ridge along x at height ridge; local vertices (10, 3) and surfaces."""
-    v = [(0, 0, 0), (w, 0, 0), (w, d, 0), (0, d, 0), (0, 0, h), (w, 0, h), (w, d, h), (0, d, h), (0, d / 2, ridge), (w, d / 2, ridge)]
+    v = [(0, 0, 0), (w, 0, 0), (w, d, 0), (0, d, 0), (0, 0, h), (w, 0, h), (w, d, h), (0, d, h),
+         (0, d / 2, ridge), (w, d / 2, ridge)]
     surfaces = [([[0, 3, 2, 1]], G), ([[0, 1, 5, 4]], W), ([[1, 2, 6, 9, 5]], W), ([[2, 3, 7, 6]], W), ([[3, 0, 4, 8, 7]], W),
                 ([[4, 5, 9, 8]], R), ([[6, 7, 8, 9]], R)]
     return np.array(v, dtype=float), surfaces, [[0, 1, 2, 3]]
@@ -117,8 +118,9 @@ def make_tile(n: int, seed: int) -> dict:
         bid = f"NL.IMBAG.Pand.0503100000{i:06d}"
         objects[bid] = {
             "type": "Building",
-            "attributes": {"identificatie": bid, "status": "Pand in gebruik", "oorspronkelijkbouwjaar": int(rng.integers(1700, 2024)),
-                           "b3_dak_type": roof, "b3_h_maaiveld": round(z0, 2), "b3_h_dak_max": round(float(world[:, 2].max()), 2),
+            "attributes": {"identificatie": bid, "status": "Pand in gebruik",
+                           "oorspronkelijkbouwjaar": int(rng.integers(1700, 2024)), "b3_dak_type": roof,
+                           "b3_h_maaiveld": round(z0, 2), "b3_h_dak_max": round(float(world[:, 2].max()), 2),
                            "b3_val3dity_lod22": []},
             "geometry": [{"type": "MultiSurface", "lod": "0", "boundaries": lod0}],
             "children": [f"{bid}-0"],
@@ -137,7 +139,8 @@ def make_tile(n: int, seed: int) -> dict:
         "type": "CityJSON",
         "version": "2.0",
         "transform": {"scale": [SCALE, SCALE, SCALE], "translate": [round(float(t), 3) for t in translate]},
-        "metadata": {"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415", "title": f"synthetic tile, {n} buildings, seed {seed}"},
+        "metadata": {"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415",
+                     "title": f"synthetic tile, {n} buildings, seed {seed}"},
         "CityObjects": objects,
         "vertices": vertices,
     }

@@ -245,7 +245,8 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
         if geoms is None:
             continue
         if not isinstance(geoms, list):
-            raise InputError(f"{path}{docs[di][0]}: object '{oid}': 'geometry' must be a list of Geometry Objects; validate the file with cjval")
+            raise InputError(f"{path}{docs[di][0]}: object '{oid}': 'geometry' must be a list of Geometry Objects; "
+                             "validate the file with cjval")
         candidates = []
         for gi, g in enumerate(geoms):
             gtype = g.get("type") if isinstance(g, dict) else None
@@ -261,7 +262,8 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
                 n_points += 1
             else:
                 raise InputError(f"{path}{docs[di][0]}: object '{oid}' geometry[{gi}] has unknown type {gtype!r}; "
-                                 f"CityJSON geometry types are {', '.join([*SURFACE_DEPTH, 'GeometryInstance', *NON_SURFACE_TYPES])}")
+                                 "CityJSON geometry types are "
+                                 f"{', '.join([*SURFACE_DEPTH, 'GeometryInstance', *NON_SURFACE_TYPES])}")
         if not candidates:
             continue
         chosen, fallback = _choose_lod(candidates, lod_req)
@@ -285,16 +287,18 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
                 b.add_instance(g, inst, gi, tverts, doc_base[di], doc_count[di])
 
     if n_points:
-        notes.append(f"{name}: {n_points} point/line geometries (MultiPoint, MultiLineString) left out: they have no surfaces")
+        notes.append(f"{name}: {_count(n_points, 'point/line geometry', 'point/line geometries')} (MultiPoint, "
+                     "MultiLineString) left out: no surfaces")
     if n_fallback:
         total = sum(n_fallback.values())
         detail = ", ".join(f"LoD {k}: {v}" for k, v in sorted(n_fallback.items(), reverse=True))
-        notes.append(f"{name}: LoD {options.lod} requested; {total} objects fell back to a lower LoD ({detail})")
+        notes.append(f"{name}: LoD {options.lod} requested; {_count(total, 'object')} fell back to a lower LoD ({detail})")
     if n_skipped:
-        notes.append(f"{name}: {n_skipped} objects have no surface geometry at or below LoD {options.lod} and were left out")
+        notes.append(f"{name}: {_count(n_skipped, 'object')} without surface geometry at or below LoD {options.lod} left out")
     if unknown:
         detail = ", ".join(f"{k}: {v}" for k, v in unknown.items())
-        notes.append(f"{name}: {sum(unknown.values())} objects of types that are not CityJSON core types given layer landscape ({detail})")
+        notes.append(f"{name}: {_count(sum(unknown.values()), 'object')} of types that are not CityJSON core types "
+                     f"given layer landscape ({detail})")
 
     mesh_v, tris, part, parts = b.finish(options.near, notes, warnings)
     return Mesh(mesh_v, tris, part, parts, warnings, notes, units="m", up_axis="z", site=site)
@@ -323,11 +327,13 @@ def _load_documents(path: Path) -> list[tuple[str, dict]]:
                 head = None
             if isinstance(head, dict) and head.get("type") == "CityJSON":
                 return _load_sequence(path, data)
-        raise InputError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg}); fix the file or export it again") from None
+        raise InputError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg}); "
+                         "fix the file or export it again") from None
     except UnicodeDecodeError:
         raise InputError(f"{path}: not valid JSON (not UTF-8 text); is this a CityJSON file?") from None
     if not isinstance(doc, dict):
-        raise InputError(f"{path}: JSON but not CityJSON (a {type(doc).__name__}, not an object with \"type\": \"CityJSON\"); export the model as CityJSON")
+        raise InputError(f"{path}: JSON but not CityJSON (a {type(doc).__name__}, not an object with \"type\": "
+                         "\"CityJSON\"); export the model as CityJSON")
     return [("", doc)]
 
 
@@ -335,22 +341,25 @@ def _load_sequence(path: Path, data: bytes) -> list[tuple[str, dict]]:
     """CityJSONSeq (§7.2): a CityJSON object, then one CityJSONFeature per line (RFC 7464 separators allowed)."""
     docs = []
     for lineno, line in enumerate(data.split(b"\n"), 1):
-        line = line.strip(b"\x1e \t\r")
-        if not line:
+        rs = len(line) - len(line.lstrip(b"\x1e"))  # RFC 7464 record separators
+        line = line[rs:]
+        if not line.strip():
             continue
         try:
             doc = json.loads(line)
         except json.JSONDecodeError as exc:
-            raise InputError(f"{path}:{lineno}:{exc.colno}: not valid JSON ({exc.msg}); each line of a CityJSONSeq must be one JSON object") from None
+            raise InputError(f"{path}:{lineno}:{exc.colno + rs}: not valid JSON ({exc.msg}); each line of a "
+                             "CityJSONSeq must be one JSON object") from None
         except UnicodeDecodeError:
             raise InputError(f"{path}:{lineno}: not valid JSON (not UTF-8 text); is this a CityJSONSeq file?") from None
         kind = doc.get("type") if isinstance(doc, dict) else None
         if not docs:
             if kind != "CityJSON":
-                raise InputError(f"{path}:{lineno}: JSON but not CityJSON: the first line of a CityJSONSeq must be an object with "
-                                 f"\"type\": \"CityJSON\" (transform, metadata), found type {kind!r}")
+                raise InputError(f"{path}:{lineno}: JSON but not CityJSON: the first line of a CityJSONSeq must be an "
+                                 f"object with \"type\": \"CityJSON\" (transform, metadata), found type {kind!r}")
         elif kind != "CityJSONFeature":
-            raise InputError(f"{path}:{lineno}: expected a CityJSONFeature line, found type {kind!r}; each line after the first must be a CityJSONFeature")
+            raise InputError(f"{path}:{lineno}: expected a CityJSONFeature line, found type {kind!r}; each line after "
+                             "the first must be a CityJSONFeature")
         docs.append((f":{lineno}", doc))
     if not docs:
         raise InputError(f"{path}: empty file; expected a CityJSON object")
@@ -361,7 +370,8 @@ def _check_header(path: Path, header: dict) -> str:
     """The CityJSON version ("1.0", "1.1", "2.0"); InputError if the object is not CityJSON or the version is not read."""
     kind = header.get("type")
     if kind != "CityJSON":
-        raise InputError(f"{path}: JSON but not CityJSON (\"type\" is {kind!r}, expected \"CityJSON\"); export the model as CityJSON")
+        raise InputError(f"{path}: JSON but not CityJSON (\"type\" is {kind!r}, expected \"CityJSON\"); export the "
+                         "model as CityJSON")
     version = header.get("version")
     short = ".".join(str(version).split(".")[:2]) if isinstance(version, (str, int, float)) else None
     if short not in VERSIONS:
@@ -414,7 +424,8 @@ def _vertices(path: Path, docs) -> tuple[np.ndarray, list, list]:
         scale = np.array(tr["scale"], dtype=np.float64).reshape(3)
         translate = np.array(tr["translate"], dtype=np.float64).reshape(3)
     except (KeyError, TypeError, ValueError):
-        raise InputError(f"{path}: 'transform' must have \"scale\" and \"translate\", 3 numbers each; validate the file with cjval") from None
+        raise InputError(f"{path}: 'transform' must have \"scale\" and \"translate\", 3 numbers each; validate the "
+                         "file with cjval") from None
     return raw * scale + translate, base, count
 
 
@@ -436,8 +447,8 @@ def _template_of(path, where, oid, gi, g, templates) -> dict:
     """The template a GeometryInstance refers to, or InputError naming the object."""
     t = g.get("template")
     if not isinstance(t, int) or isinstance(t, bool) or not 0 <= t < len(templates) or not isinstance(templates[t], dict):
-        raise InputError(f"{path}{where}: object '{oid}' geometry[{gi}] (GeometryInstance) refers to template {t!r} but the file has "
-                         f"{len(templates)} geometry-templates; validate the file with cjval")
+        raise InputError(f"{path}{where}: object '{oid}' geometry[{gi}] (GeometryInstance) refers to template {t!r} "
+                         f"but the file has {len(templates)} geometry-templates; validate the file with cjval")
     tpl = templates[t]
     if tpl.get("type") not in SURFACE_DEPTH and tpl.get("type") not in NON_SURFACE_TYPES:
         raise InputError(f"{path}: geometry-templates[{t}] has unknown type {tpl.get('type')!r} (used by object '{oid}'); "
@@ -470,6 +481,11 @@ def _lod_key(lod) -> tuple[int, int]:
     if not m:
         return (-1, 0)
     return (int(m.group(1)), int(m.group(2) or 0))
+
+
+def _count(n: int, one: str, many: str | None = None) -> str:
+    """'1 object', '3 objects'."""
+    return f"{n} {one if n == 1 else (many or one + 's')}"
 
 
 def _lod_label(key) -> str:
@@ -515,9 +531,11 @@ def _excluded(by_id: dict, exclude, notes: list, name: str) -> set:
                 out.add(c)
                 todo.append(c)
     if out:
-        notes.append(f"{name}: {len(out)} objects left out by exclude ({len(listed)} listed, {len(out) - len(listed)} of their children)")
+        notes.append(f"{name}: {_count(len(out), 'object')} left out by exclude ({len(listed)} listed, "
+                     f"{len(out) - len(listed)} of their descendants)")
     if missing:
-        notes.append(f"{name}: {len(missing)} excluded ids are not in the file: {', '.join(missing[:5])}{' ...' if len(missing) > 5 else ''}")
+        notes.append(f"{name}: {_count(len(missing), 'excluded id')} not in the file: "
+                     f"{', '.join(missing[:5])}{' ...' if len(missing) > 5 else ''}")
     return out
 
 
@@ -577,7 +595,8 @@ class _Builder:
                 attrs["parent"] = ptype
         self.attrs = attrs
         a = obj.get("attributes")
-        self.free = {f"attr.{k}": v for k, v in a.items() if isinstance(v, (str, int, float, bool))} if isinstance(a, dict) else {}
+        scalar = (str, int, float, bool)
+        self.free = {f"attr.{k}": v for k, v in a.items() if isinstance(v, scalar)} if isinstance(a, dict) else {}
         self.cls = cls
 
     def part_for(self, surface, solid: bool) -> int:
@@ -661,12 +680,14 @@ class _Builder:
             raise InputError(f"{where}: needs \"boundaries\": [reference vertex] and a 16-number \"transformationMatrix\"; "
                              "validate the file with cjval") from None
         if not isinstance(ref, int) or isinstance(ref, bool) or not 0 <= ref < limit:
-            raise InputError(f"{where}: reference point {ref!r} is not a vertex of the file ({limit} vertices); validate the file with cjval")
+            raise InputError(f"{where}: reference point {ref!r} is not a vertex of the file ({limit} vertices); "
+                             "validate the file with cjval")
         t = inst["template"]
         lo, hi = self._template_range(t, tpl, tverts, oid)
         placed = tverts[lo:hi] @ m[:3, :3].T + m[:3, 3] + self.blocks[0][base + ref]
         self.blocks.append(placed)
-        self.add_geometry(tpl, gi, self.nverts - lo, hi, label=f"object '{oid}' geometry[{gi}] (GeometryInstance of template {t})")
+        label = f"object '{oid}' geometry[{gi}] (GeometryInstance of template {t})"
+        self.add_geometry(tpl, gi, self.nverts - lo, hi, label=label)
         self.nverts += len(placed)
 
     def _template_range(self, t: int, tpl: dict, tverts: np.ndarray, oid: str) -> tuple[int, int]:
@@ -674,15 +695,17 @@ class _Builder:
         r = self.tpl_range.get(t)
         if r is None:
             try:
-                idx = np.fromiter(chain.from_iterable(chain.from_iterable(_flatten(tpl["boundaries"], SURFACE_DEPTH[tpl["type"]]))),
-                                  dtype=np.int64)
+                surfaces = _flatten(tpl["boundaries"], SURFACE_DEPTH[tpl["type"]])
+                idx = np.fromiter(chain.from_iterable(chain.from_iterable(surfaces)), dtype=np.int64)
             except (KeyError, TypeError, ValueError):
-                raise InputError(f"{self.path}: geometry-templates[{t}] ({tpl.get('type')}): 'boundaries' are not nested as its type "
+                raise InputError(f"{self.path}: geometry-templates[{t}] ({tpl.get('type')}): 'boundaries' are not "
+                                 "nested as its type "
                                  "says (§3.2); validate the file with cjval") from None
             if len(idx) == 0:
                 r = (0, 0)
             elif idx.min() < 0 or idx.max() >= len(tverts):
-                raise InputError(f"{self.path}: geometry-templates[{t}] (used by object '{oid}') refers to template vertex {int(idx.max())} but "
+                raise InputError(f"{self.path}: geometry-templates[{t}] (used by object '{oid}') refers to template "
+                                 f"vertex {int(idx.max())} but "
                                  f"there are {len(tverts)} vertices-templates; validate the file with cjval")
             else:
                 r = (int(idx.min()), int(idx.max()) + 1)
@@ -695,8 +718,9 @@ class _Builder:
         """Vertices, triangles, part per triangle and parts, after range checks and near-culling."""
         name = self.path.name
         if self.bad_semantics:
-            warnings.append(f"{name}: {self.bad_semantics} geometries have semantics.values that do not match their surfaces; "
-                            "their semantics were ignored")
+            warnings.append(f"{name}: {_count(self.bad_semantics, 'geometry', 'geometries')} with semantics.values "
+                            "that do not match their "
+                            "surfaces: their semantics ignored")
         vertices = np.concatenate(self.blocks) if len(self.blocks) > 1 else self.blocks[0]
         ring_len = np.array(self.ring_len, dtype=np.int64)
         s_nrings = np.array(self.s_nrings, dtype=np.int64)
@@ -714,7 +738,8 @@ class _Builder:
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             gi = int(vert_geom[i])
-            raise InputError(f"{self.path}{self.obj_where[self.g_obj[gi]]}: {self.g_label[gi]} refers to vertex {int(local[i])} but there are "
+            raise InputError(f"{self.path}{self.obj_where[self.g_obj[gi]]}: {self.g_label[gi]} refers to vertex "
+                             f"{int(local[i])} but there are "
                              f"{int(limit[i])} vertices; the file is corrupt, validate it with cjval")
         gidx = local + np.array(self.g_base, dtype=np.int64)[vert_geom]
         del local, limit, bad
@@ -747,12 +772,14 @@ class _Builder:
             nr = sum(self.s_nrings[s_start:s_start + ns])
             for ring in self.rings[r_start:r_start + nr]:
                 if not all(type(v) is int for v in ring):
-                    raise InputError(f"{self.path}{self.obj_where[self.g_obj[gi]]}: {self.g_label[gi]}: 'boundaries' are not nested as its "
+                    raise InputError(f"{self.path}{self.obj_where[self.g_obj[gi]]}: {self.g_label[gi]}: 'boundaries' "
+                                     "are not nested as its "
                                      "type says (rings must be lists of vertex indices, §3.2); validate the file with cjval")
             s_start += ns
             r_start += nr
             g = gi
-        raise InputError(f"{self.path}: {self.g_label[g]}: 'boundaries' hold something else than vertex indices; validate the file with cjval")
+        raise InputError(f"{self.path}: {self.g_label[g]}: 'boundaries' hold something else than vertex indices; "
+                         "validate the file with cjval")
 
     def _near(self, vertices, gidx, vert_obj, near, notes) -> np.ndarray:
         """Per kept object: does its vertex bounding box come within the radius of the point (in plan)?"""
@@ -773,7 +800,8 @@ class _Builder:
         keep[objs] = np.hypot(dx, dy) <= radius
         dropped = int(n_obj - keep.sum())
         if dropped:
-            notes.append(f"{self.path.name}: {dropped} objects lying entirely farther than {radius:g} m from ({px:g}, {py:g}) left out")
+            notes.append(f"{self.path.name}: {_count(dropped, 'object')} lying entirely farther than {radius:g} m "
+                         f"from ({px:g}, {py:g}) left out")
         return keep
 
     def _triangulate(self, vertices, gidx, ring_len, s_nrings, surf_keep, warnings):
@@ -806,15 +834,17 @@ class _Builder:
             out_t.append(t)
             out_s.append(rows[poly])
         if holes.any():
-            t, surf, lost = _triangulate_with_holes(vertices, gidx, ring_start, ring_len, first_ring, s_nrings, np.flatnonzero(holes))
+            rows = np.flatnonzero(holes)
+            t, surf, lost = _triangulate_with_holes(vertices, gidx, ring_start, ring_len, first_ring, s_nrings, rows)
             n_failed += lost
             out_t.append(t)
             out_s.append(surf)
         name = self.path.name
         if n_degenerate:
-            warnings.append(f"{name}: {n_degenerate} surfaces with fewer than 3 vertices dropped")
+            warnings.append(f"{name}: {_count(n_degenerate, 'surface')} with fewer than 3 vertices dropped")
         if n_failed:
-            warnings.append(f"{name}: {n_failed} polygons could not be fully triangulated (self-intersecting or degenerate); "
+            warnings.append(f"{name}: {_count(n_failed, 'polygon')} could not be fully triangulated "
+                            "(self-intersecting or degenerate); "
                             "their remaining area was dropped")
         if not out_t:
             return np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
@@ -835,7 +865,7 @@ def _count_lost_area(polys: np.ndarray, tri_pts: np.ndarray, poly: np.ndarray, n
     return int((covered < area * (1 - 1e-3) - 1e-9).sum())
 
 
-def _triangulate_with_holes(vertices, gidx, ring_start, ring_len, first_ring, s_nrings, rows) -> tuple[np.ndarray, np.ndarray, int]:
+def _triangulate_with_holes(vertices, gidx, ring_start, ring_len, first_ring, s_nrings, rows):
     """Ear-clip surfaces with holes, each in the best-fit (Newell) plane of its outer ring.
 
     The planes, the 2D projections and the areas are computed for all the surfaces at once;
@@ -943,7 +973,8 @@ def footprint_overlap(mesh: Mesh, footprint, min_share: float = 0.5, classes=BUI
     xmin, ymin, xmax, ymax = shapely.bounds(fp)
     xy = mesh.vertices[mesh.triangles][:, :, :2] - origin  # (m, 3, 2)
     lo, hi = xy.min(axis=1), xy.max(axis=1)
-    plan_area = 0.5 * np.abs(np.cross(xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]))
+    e1, e2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
+    plan_area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
     near = (tri_obj >= 0) & (lo[:, 0] <= xmax) & (hi[:, 0] >= xmin) & (lo[:, 1] <= ymax) & (hi[:, 1] >= ymin)
     candidates = np.unique(tri_obj[near])
     if len(candidates) == 0:
@@ -980,5 +1011,6 @@ def without_objects(mesh: Mesh, ids) -> Mesh:
     gone = np.array([p.attrs.get("id") in drop for p in mesh.parts], dtype=bool)
     keep_tri = ~gone[mesh.part] if len(mesh.parts) else np.ones(len(mesh.triangles), dtype=bool)
     pmap = np.cumsum(~gone) - 1
-    return Mesh(mesh.vertices, mesh.triangles[keep_tri], pmap[mesh.part[keep_tri]], [p for p, g in zip(mesh.parts, gone) if not g],
-                list(mesh.warnings), list(mesh.notes), units=mesh.units, up_axis=mesh.up_axis, site=mesh.site, spaces=list(mesh.spaces))
+    parts = [p for p, g in zip(mesh.parts, gone) if not g]
+    return Mesh(mesh.vertices, mesh.triangles[keep_tri], pmap[mesh.part[keep_tri]], parts, list(mesh.warnings), list(mesh.notes),
+                units=mesh.units, up_axis=mesh.up_axis, site=mesh.site, spaces=list(mesh.spaces))
