@@ -1,85 +1,92 @@
 """CityJSON reader: city context models (3D BAG tiles, municipal LoD2 models) as triangles with parts.
 
 Reads CityJSON 1.0, 1.1 and 2.0 files (``.city.json``, ``.json``) and CityJSON Text Sequences
-(``.city.jsonl``, ``.jsonl``: a first line holding a ``"CityJSON"`` object with ``transform``,
-``metadata`` and ``geometry-templates``, then one ``"CityJSONFeature"`` per line whose
-``vertices`` are indexed locally). References are to the CityJSON 2.0 specification
-(https://www.cityjson.org/specs/2.0.1/), with the 1.0 section where it differs.
+(CityJSONSeq, spec 2.0 §7.2; ``.city.jsonl``, ``.jsonl``): a first line holding a ``"CityJSON"``
+object with ``transform``, ``metadata`` and ``geometry-templates``, then one
+``"CityJSONFeature"`` per line whose ``vertices`` are indexed locally. Section numbers are those
+of the CityJSON 2.0 specification (https://www.cityjson.org/specs/2.0.1/); 1.0 and 1.1 number
+the geometry and transform sections alike, 1.0 has the CRS in §5.1.
 
-Coordinates (spec 2.0 §3.1, §4 Transform Object): ``vertex = integer * scale + translate``, in
-float64, for all vertices at once. Template vertices (§3.4) are real coordinates and are not
+Coordinates (§3.1 Coordinates of the vertices, §4 Transform Object): ``vertex = integer * scale
++ translate``, in float64, for all vertices of the file in one numpy step (a 1.0 file without
+``transform`` holds real coordinates). Template vertices (§3.4) are real coordinates and are not
 transformed. CityJSON vertices are in the units of the file's CRS with z up; the reader returns
 ``Mesh(units="m", up_axis="z")`` because the CRSs of city models are projected ones in metres
-(EPSG:7415, 28992, 25832...). A CRS in degrees (EPSG:4326, 4979...) is refused.
+(EPSG:7415, 28992, 25832...); a CRS in degrees (EPSG:4326, 4979...) is refused.
 
-Geometry (§3.2): MultiSurface and CompositeSurface (boundaries nested 3 deep: surface > ring >
-vertex), Solid (4: shell > surface > ring > vertex), MultiSolid and CompositeSolid (5), and
-GeometryInstance (§3.4: a template placed by its 4x4 row-major ``transformationMatrix`` at the
-reference point ``boundaries[0]``: ``world = M[:3, :3] @ v + M[:3, 3] + reference_point``).
-MultiPoint and MultiLineString carry no surfaces and are left out (counted note). Each surface
-is an outer ring and optional inner rings (holes); surfaces without holes are ear-clipped in
-their best-fit (Newell) plane, all surfaces of one vertex count together
-(:func:`en17037cli.geometry.triangulate_polygons`); surfaces with holes one by one, with the
-holes passed to mapbox-earcut.
+Geometry (§3.2 Arrays to represent boundaries): MultiSurface and CompositeSurface (boundaries
+nested 3 deep: surface > ring > vertex index), Solid (4: shell > surface > ring > index),
+MultiSolid and CompositeSolid (5), and GeometryInstance (§3.4 Geometry templates: a template
+placed by its 4x4 row-major ``transformationMatrix`` M at the reference point, the vertex
+``boundaries[0]``: ``world = M[:3, :3] @ v + M[:3, 3] + reference_point``). MultiPoint and
+MultiLineString carry no surfaces and are left out (counted note). A surface is an outer ring
+and optional inner rings (holes). Surfaces without holes are ear-clipped in their best-fit
+(Newell) plane, all surfaces of one vertex count together
+(:func:`en17037cli.geometry.triangulate_polygons`); surfaces with holes get their planes and
+projections all at once too, and mapbox-earcut runs once per surface with the hole indices.
+A surface whose triangles cover less than 99.9 % of its area (self-intersecting, degenerate) is
+counted in a warning.
 
 Level of detail (``ReadOptions.lod``): ``"highest"`` takes each object's highest LoD; a given
 LoD (``"2.2"``, ``"1.2"``, ``"2"``...) takes it, or else the highest LoD below it (one note counts
-the fallbacks). ``"2"`` matches any of 2, 2.0...2.3 (the highest). Objects with no surface
-geometry at or below the LoD are left out (counted note). All geometries of the chosen LoD are
-read.
+the fallbacks); ``"2"`` takes the highest of 2, 2.0, 2.1... Objects with surface geometry, but
+none at or below the LoD, are left out (counted note). All geometries of the chosen LoD are read.
 
 Parts: one :class:`~en17037cli.io.mesh.Part` per (CityObject, semantic surface type), in file
-order, with ``attrs``:
+order (objects, then surface types as the object's ``semantics.surfaces`` list them); a
+PlantCover given both as surfaces and as solids gets one of each. ``Part.attrs``:
 
-=================  ==============================================================================
-``class``          the CityObject type: ``Building``, ``BuildingPart``, ``TINRelief``, ``+Noise``...
-``id``             the CityObject id (the key in ``"CityObjects"``)
-``parent``         the type of the object's first parent (``"parents"``, §2), when it has one
-``surface``        the semantic surface type (§3.3: ``RoofSurface``, ``WallSurface``,
-                   ``GroundSurface``, ``Window``...) when the geometry has semantics for the face
-``attr.<key>``     ``str(value)`` of each scalar attribute of the object (string, number, bool;
-                   lists and objects are skipped); nothing is inherited from parents
-=================  ==============================================================================
+| key | value |
+|---|---|
+| `class` | the CityObject type: `Building`, `BuildingPart`, `TINRelief`, `+NoiseBarrier`... |
+| `id` | the CityObject id (its key in `"CityObjects"`) |
+| `parent` | the type of the object's first parent (`"parents"`, §2), when it has one |
+| `surface` | the semantic surface type (§3.3): `RoofSurface`, `WallSurface`, `Window`..., if the face has one |
+| `attr.<key>` | `str(value)` of each scalar attribute (string, number, bool; not lists, objects, null) |
 
-Default layer (``Part.layer``), the first matching row wins; the project's layer rules may
-override any of it (match ``class``, ``surface``, ``id``, ``attr.*``):
+Parts inherit nothing from their parent objects.
 
-===============================================================  ============  =====================
-CityObject type / semantic surface                               layer         why
-===============================================================  ============  =====================
-``GroundSurface`` of a ``Building`` or ``BuildingPart``          ignore        never seen from outside
-``ClosureSurface``, ``WaterClosureSurface`` (any object)         ignore        virtual, not a surface
-``InteriorWallSurface``, ``CeilingSurface``, ``FloorSurface``    ignore        inside a building
-``BuildingRoom``, ``BuildingStorey``, ``BuildingUnit``,          ignore        inside a building shell
-``BuildingFurniture``, ``BridgeRoom``, ``BridgeFurniture``,
-``TunnelHollowSpace``, ``TunnelFurniture``
-``CityObjectGroup``                                              ignore        groups others' geometry
-``Building``, ``BuildingPart``, ``BuildingInstallation``,        landscape
-``BuildingConstructiveElement``
-``Bridge``, ``BridgePart``, ``BridgeInstallation``,              landscape
-``BridgeConstructiveElement`` (1.0: ``BridgeConstructionElement``)
-``Tunnel``, ``TunnelPart``, ``TunnelInstallation``,              landscape
-``TunnelConstructiveElement``
-``CityFurniture``, ``GenericCityObject``, ``OtherConstruction``,  landscape
-``SolitaryVegetationObject``
-``PlantCover`` given as Solid, MultiSolid or CompositeSolid      landscape
-``PlantCover`` given as MultiSurface or CompositeSurface         ground
-``TINRelief``, ``LandUse``, ``Road``, ``Railway``,               ground
-``TransportSquare``, ``WaterBody``, ``Waterway``
-any other type (Extension ``+Something``, unknown)               landscape     counted note
-===============================================================  ============  =====================
+Default layer (``Part.layer``): the first matching row wins; the project's layer rules may
+override any of it (matching ``class``, ``surface``, ``id``, ``attr.*``).
+
+| CityObject type / semantic surface | layer | why |
+|---|---|---|
+| `GroundSurface` of a `Building` or `BuildingPart` | ignore | never seen from outside |
+| `ClosureSurface`, `WaterClosureSurface` (any object) | ignore | virtual, not matter |
+| `InteriorWallSurface`, `CeilingSurface`, `FloorSurface` (any object) | ignore | inside a building |
+| `Building`, `BuildingPart`, `BuildingInstallation`, `BuildingConstructiveElement` | landscape | |
+| `Bridge`, `BridgePart`, `BridgeInstallation`, `BridgeConstructiveElement` | landscape | |
+| `BridgeConstructionElement` (CityJSON 1.0 name) | landscape | |
+| `Tunnel`, `TunnelPart`, `TunnelInstallation`, `TunnelConstructiveElement` | landscape | |
+| `CityFurniture`, `GenericCityObject`, `OtherConstruction`, `SolitaryVegetationObject` | landscape | |
+| `PlantCover` given as Solid, MultiSolid or CompositeSolid | landscape | |
+| `PlantCover` given as MultiSurface or CompositeSurface | ground | |
+| `TINRelief`, `LandUse`, `Road`, `Railway`, `TransportSquare`, `WaterBody`, `Waterway` | ground | |
+| `BuildingRoom`, `BuildingStorey`, `BuildingUnit`, `BuildingFurniture` | ignore | inside a shell (1) |
+| `BridgeRoom`, `BridgeFurniture`, `TunnelHollowSpace`, `TunnelFurniture` | ignore | inside a shell (1) |
+| `CityObjectGroup` | ignore | groups objects that have their own geometry |
+| any other type (an Extension's `+Something`) | landscape | counted in a note |
+
+(1) Never seen from outside; as landscape, the checked building's rooms would fill the checked room.
+
+Other semantic surfaces keep their object's layer: a context building's ``Window`` and ``Door``
+surfaces are landscape (the ``window`` layer is the checked room's glazing, from its own model).
 
 ``Part.obstructs_sun`` is True for every part, vegetation included (``SolitaryVegetationObject``
-and ``PlantCover`` solids): a tree's crown is modelled as solid, and whether foliage lets the
-sun through is the project's decision (a layer rule with ``obstructs_sun: false``).
+and ``PlantCover`` solids): whether foliage lets the sun through is the project's decision (a
+layer rule with ``obstructs_sun: false``).
 
-Other options: ``ReadOptions.exclude`` leaves out objects by id together with their children
-(``"children"`` and ``"parents"``, recursively); ``ReadOptions.near = ((x, y), r)`` leaves out,
-before triangulation, each object whose vertex bounding box lies entirely farther than ``r``
-from ``(x, y)`` in plan (counted note). The CRS (§5.5 ``metadata.referenceSystem``; 1.0 §5.1
-``urn:ogc:def:crs:EPSG::7415``) becomes ``Mesh.site.crs = "EPSG:7415"``.
+Other options: ``ReadOptions.exclude`` leaves out objects by id together with their
+descendants (``"children"``, and objects naming them in ``"parents"``, recursively);
+``ReadOptions.near = ((x, y), r)`` leaves out, before triangulation, each object whose vertex
+bounding box lies entirely farther than ``r`` from ``(x, y)`` in plan (counted note). The CRS
+(§5.5 ``metadata.referenceSystem``, ``https://www.opengis.net/def/crs/EPSG/0/7415``; 1.0 §5.1
+``urn:ogc:def:crs:EPSG::7415``) becomes ``Mesh.site.crs = "EPSG:7415"``; for a CityJSONSeq it
+comes from the first line.
 
 Not read: appearances (materials, textures), Extensions' schemas, ``geographicalExtent``.
+Python's cyclic garbage collector is paused while a file is read (JSON trees hold no cycles;
+collecting during the parse would triple the load time of a large tile).
 """
 from __future__ import annotations
 
@@ -103,6 +110,7 @@ VERSIONS = ("1.0", "1.1", "2.0")
 SURFACE_DEPTH = {"MultiSurface": 0, "CompositeSurface": 0, "Solid": 1, "MultiSolid": 2, "CompositeSolid": 2}
 SOLID_TYPES = frozenset(("Solid", "MultiSolid", "CompositeSolid"))
 NON_SURFACE_TYPES = frozenset(("MultiPoint", "MultiLineString"))
+GEOMETRY_TYPES = ("MultiPoint", "MultiLineString", *SURFACE_DEPTH, "GeometryInstance")
 
 _LANDSCAPE = frozenset((
     "Building", "BuildingPart", "BuildingInstallation", "BuildingConstructiveElement",
@@ -262,8 +270,7 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
                 n_points += 1
             else:
                 raise InputError(f"{path}{docs[di][0]}: object '{oid}' geometry[{gi}] has unknown type {gtype!r}; "
-                                 "CityJSON geometry types are "
-                                 f"{', '.join([*SURFACE_DEPTH, 'GeometryInstance', *NON_SURFACE_TYPES])}")
+                                 f"CityJSON geometry types are {', '.join(GEOMETRY_TYPES)}")
         if not candidates:
             continue
         chosen, fallback = _choose_lod(candidates, lod_req)
@@ -309,7 +316,7 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
 
 
 def _load_documents(path: Path) -> list[tuple[str, dict]]:
-    """The file's JSON objects with where they are: [("", CityJSON)] or [(" line 1", header), (" line 2", feature)...]."""
+    """The file's JSON objects with where they are: [("", CityJSON)] or [(":1", header), (":2", feature)...]."""
     try:
         data = path.read_bytes()
     except OSError as exc:
@@ -517,7 +524,6 @@ def _excluded(by_id: dict, exclude, notes: list, name: str) -> set:
     kids: dict = {}
     for oid, obj in by_id.items():
         for c in obj.get("children") or ():
-            kids.setdefault(c, set())
             kids.setdefault(oid, set()).add(c)
         for p in obj.get("parents") or ():
             kids.setdefault(p, set()).add(oid)
@@ -699,14 +705,13 @@ class _Builder:
                 idx = np.fromiter(chain.from_iterable(chain.from_iterable(surfaces)), dtype=np.int64)
             except (KeyError, TypeError, ValueError):
                 raise InputError(f"{self.path}: geometry-templates[{t}] ({tpl.get('type')}): 'boundaries' are not "
-                                 "nested as its type "
-                                 "says (§3.2); validate the file with cjval") from None
+                                 "nested as its type says (§3.2); validate the file with cjval") from None
             if len(idx) == 0:
                 r = (0, 0)
             elif idx.min() < 0 or idx.max() >= len(tverts):
                 raise InputError(f"{self.path}: geometry-templates[{t}] (used by object '{oid}') refers to template "
-                                 f"vertex {int(idx.max())} but "
-                                 f"there are {len(tverts)} vertices-templates; validate the file with cjval")
+                                 f"vertex {int(idx.max())} but there are {len(tverts)} vertices-templates; "
+                                 "validate the file with cjval")
             else:
                 r = (int(idx.min()), int(idx.max()) + 1)
             self.tpl_range[t] = r
@@ -719,8 +724,7 @@ class _Builder:
         name = self.path.name
         if self.bad_semantics:
             warnings.append(f"{name}: {_count(self.bad_semantics, 'geometry', 'geometries')} with semantics.values "
-                            "that do not match their "
-                            "surfaces: their semantics ignored")
+                            "that do not match their surfaces: their semantics ignored")
         vertices = np.concatenate(self.blocks) if len(self.blocks) > 1 else self.blocks[0]
         ring_len = np.array(self.ring_len, dtype=np.int64)
         s_nrings = np.array(self.s_nrings, dtype=np.int64)
@@ -739,8 +743,8 @@ class _Builder:
             i = int(np.flatnonzero(bad)[0])
             gi = int(vert_geom[i])
             raise InputError(f"{self.path}{self.obj_where[self.g_obj[gi]]}: {self.g_label[gi]} refers to vertex "
-                             f"{int(local[i])} but there are "
-                             f"{int(limit[i])} vertices; the file is corrupt, validate it with cjval")
+                             f"{int(local[i])} but there are {int(limit[i])} vertices; the file is corrupt, "
+                             "validate it with cjval")
         gidx = local + np.array(self.g_base, dtype=np.int64)[vert_geom]
         del local, limit, bad
 
@@ -773,8 +777,8 @@ class _Builder:
             for ring in self.rings[r_start:r_start + nr]:
                 if not all(type(v) is int for v in ring):
                     raise InputError(f"{self.path}{self.obj_where[self.g_obj[gi]]}: {self.g_label[gi]}: 'boundaries' "
-                                     "are not nested as its "
-                                     "type says (rings must be lists of vertex indices, §3.2); validate the file with cjval")
+                                     "are not nested as its type says (rings must be lists of vertex indices, §3.2); "
+                                     "validate the file with cjval")
             s_start += ns
             r_start += nr
             g = gi
@@ -844,8 +848,7 @@ class _Builder:
             warnings.append(f"{name}: {_count(n_degenerate, 'surface')} with fewer than 3 vertices dropped")
         if n_failed:
             warnings.append(f"{name}: {_count(n_failed, 'polygon')} could not be fully triangulated "
-                            "(self-intersecting or degenerate); "
-                            "their remaining area was dropped")
+                            "(self-intersecting or degenerate); their remaining area was dropped")
         if not out_t:
             return np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
         return np.concatenate(out_t).astype(np.int64), np.concatenate(out_s).astype(np.int64)
