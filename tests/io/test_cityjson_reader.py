@@ -133,6 +133,8 @@ def test_square_with_square_hole_has_outer_minus_inner_area(tmp_path):
     in_hole = (c[:, 0] > 3) & (c[:, 0] < 7) & np.where(horizontal, (c[:, 1] > 3) & (c[:, 1] < 7), (c[:, 2] > 3) & (c[:, 2] < 7))
     assert not in_hole.any()
     assert horizontal.sum() == 8 and (~horizontal).sum() == 8  # earcut: 4 + 4 - 2 + 2 * 1 holes
+    normals, _ = triangle_normals(m.vertices[m.triangles])  # the outer ring's turn is kept: up, and -y for the wall
+    assert np.allclose(normals[horizontal], [0, 0, 1]) and np.allclose(normals[~horizontal], [0, -1, 0])
     assert m.warnings == []
 
 
@@ -468,6 +470,16 @@ def test_degenerate_surfaces_are_counted(tmp_path):
     m = read_cityjson(write(tmp_path, cityjson({"x": {"type": "Building", "geometry": [geom]}}, CUBE_V)))
     assert m.warnings == ["model.city.json: 2 surfaces with fewer than 3 vertices dropped"]
     assert abs(area(m) - 1.0) < 1e-9
+
+
+def test_semantics_that_do_not_fit_are_ignored_with_a_warning(tmp_path):
+    bad_index = geom("Solid", [CUBE_SHELL], semantics={"surfaces": [{"type": "RoofSurface"}], "values": [[0, 0, 0, 0, 0, 7]]})
+    too_short = geom("MultiSurface", CUBE_SHELL[:2], semantics={"surfaces": [{"type": "RoofSurface"}], "values": [0]})
+    m = read_cityjson(write(tmp_path, cityjson({"a": obj("Building", bad_index), "b": obj("Building", too_short)}, CUBE_V)))
+    warning = "model.city.json: 2 geometries with semantics.values that do not match their surfaces: their semantics ignored"
+    assert m.warnings == [warning]
+    assert [dict(p.attrs) for p in m.parts] == [{"class": "Building", "id": "a"}, {"class": "Building", "id": "b"}]
+    assert abs(area(m) - 8.0) < 1e-9
 
 
 # --- bad input ------------------------------------------------------------------------------
