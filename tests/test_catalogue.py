@@ -76,7 +76,7 @@ CASES = [
     ("room-without-name", doc_edit(lambda d: d["rooms"][0].pop("name")), "rooms[0]: missing required key 'name'"),
     ("duplicate-room", doc_edit(lambda d: d["rooms"].append(dict(d["rooms"][0]))), "room name 'box room' is used twice"),
     ("layer-enum", doc_edit(lambda d: files0(d)["layers"][0].update(layer="walls")), "layers[0].layer: expected one of"),
-    ("layer-and-layers", doc_edit(lambda d: files0(d).update(layer="interior")), "give exactly one of 'layer'"),
+    ("layer-and-layers", doc_edit(lambda d: files0(d).update(layer="interior")), "give 'layer' (one layer for the whole file) or 'layers' (rules by name), not both"),
     ("units-enum", doc_edit(lambda d: d["model"].update(units="yards")), "model.units: expected one of m, cm, mm, ft, in"),
     ("up-axis-enum", doc_edit(lambda d: d["model"].update(up_axis="x")), "model.up_axis: expected one of z, y"),
     ("latitude-range", doc_edit(lambda d: d["location"].update(latitude=95)), "location.latitude: expected a value <= 90"),

@@ -34,15 +34,26 @@ Reader = Callable[[Path, ReadOptions], Mesh]
 
 #: file name ending (lower case, with the dot) -> reader; longer endings win (".city.json" over ".json")
 READERS: dict[str, Reader] = {}
+#: readers of city models: the context around a building, read after the building itself (so they
+#: can be cut to the building's surroundings) and never the building's own rooms
+CONTEXT_READERS: set = set()
 
 
-def register(*endings: str):
-    """Decorator registering a reader for file names ending in any of ``endings``."""
+def register(*endings: str, context: bool = False):
+    """Decorator registering a reader for file names ending in any of ``endings``; ``context`` marks
+    a city-model format (see :data:`CONTEXT_READERS`)."""
     def deco(fn: Reader) -> Reader:
         for e in endings:
             READERS[e.lower()] = fn
+        if context:
+            CONTEXT_READERS.add(fn)
         return fn
     return deco
+
+
+def is_context(path: Path) -> bool:
+    """Whether ``path`` is read as a city model (context), by its file name."""
+    return reader_for(Path(path)) in CONTEXT_READERS
 
 
 def reader_for(path: Path) -> Reader:

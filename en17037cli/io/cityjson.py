@@ -175,7 +175,7 @@ def normalise_crs(reference_system) -> str | None:
     return f"EPSG:{m.group(1)}" if m else s
 
 
-@register(".city.json", ".json", ".city.jsonl", ".jsonl")
+@register(".city.json", ".json", ".city.jsonl", ".jsonl", context=True)
 def read_cityjson(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read a CityJSON file or CityJSON Text Sequence into triangles with one part per object and surface type.
 

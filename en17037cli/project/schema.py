@@ -34,8 +34,10 @@ def _describe(error: jsonschema.ValidationError) -> str:
         return f"expected one of {', '.join(map(str, error.validator_value))}, got {json.dumps(inst, default=str)}"
     if v == "const":
         return f"expected {json.dumps(error.validator_value)}, got {json.dumps(inst, default=str)}"
-    if v == "oneOf" and isinstance(inst, dict) and "path" in inst:
-        return "give exactly one of 'layer' (whole file) or 'layers' (rules by name)"
+    if v == "not" and isinstance(inst, dict) and "path" in inst:
+        return "give 'layer' (one layer for the whole file) or 'layers' (rules by name), not both"
+    if v == "anyOf" and isinstance(inst, dict) and "layer" in inst:
+        return "a layer rule needs 'match' or a key to match (class, name, id, type, storey, surface, parent, attributes)"
     if v in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
         op = {"minimum": ">=", "maximum": "<=", "exclusiveMinimum": ">", "exclusiveMaximum": "<"}[v]
         return f"expected a value {op} {error.validator_value}, got {inst}"

@@ -18,12 +18,31 @@ class LayerRule:
     """One rule of a file's ``layers:`` list: faces whose part matches get ``layer``.
 
     match : glob tested on every name and attribute value of a part (object, group, material,
-        file stem; IFC class, Name, GlobalId, type, storey; CityJSON type, id, surface)
+        file stem; IFC class, Name, GlobalId, type, storey; CityJSON type, id, surface), or None
+    keys : part attribute -> glob, each of which must match (``class``, ``surface``, ``attr.roofType``...)
     """
 
-    match: str
+    match: str | None
     layer: str
     obstructs_sun: bool = True
+    keys: tuple[tuple[str, str], ...] = ()
+
+    def describe(self) -> str:
+        """The rule as the project file writes it, for messages."""
+        parts = ([f"match: '{self.match}'"] if self.match is not None else []) + [f"{k}: '{v}'" for k, v in self.keys]
+        return ", ".join(parts)
+
+
+#: Rule keys that match one part attribute each (see :data:`~en17037cli.io.mesh.PART_KEYS`).
+RULE_KEYS = ("class", "name", "id", "type", "storey", "surface", "parent")
+
+
+@dataclass(frozen=True)
+class Transform:
+    """Rotation about the vertical axis [deg, counterclockwise seen from above], then translation [m]."""
+
+    rotate_deg: float = 0.0
+    translate_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -33,6 +52,9 @@ class ModelFile:
     path : the file, resolved; display : the path as the project file writes it
     layer : one layer for the whole file, or None when ``rules`` decide
     units, up_axis : this file's own, or None (the format's, else the model's)
+    transform : where the file's geometry goes, or None
+    crs : the file's CRS where the file does not say (``EPSG:nnnn``), or None
+    lod, exclude, exclude_overlapping, context_radius_m : for city models (see the project schema)
     """
 
     path: Path
@@ -42,11 +64,19 @@ class ModelFile:
     rules: tuple[LayerRule, ...]
     units: str | None
     up_axis: str | None
+    transform: Transform | None = None
+    crs: str | None = None
+    lod: str = "highest"
+    exclude: tuple[str, ...] = ()
+    exclude_overlapping: bool = True
+    context_radius_m: float = 1000.0
 
     @property
     def all_ignored(self) -> bool:
-        """Every face of the file goes to ``ignore``: the file need not be read."""
-        return self.layer == "ignore" or (self.layer is None and all(r.layer == "ignore" for r in self.rules))
+        """Every face of the file goes to ``ignore`` (its layer, or rules that all say ``ignore`` ending
+        with a catch-all): the file need not be read."""
+        catch_all = any(r.match == "*" and not r.keys for r in self.rules)
+        return self.layer == "ignore" or (catch_all and all(r.layer == "ignore" for r in self.rules))
 
 
 @dataclass(frozen=True)
@@ -170,11 +200,27 @@ def sun_settings(d: dict) -> SunSettings:
     return _fields(SunSettings, d, period_start=d["period"]["start"], period_end=d["period"]["end"])
 
 
+def layer_rule(r: dict) -> LayerRule:
+    keys = [(k, r[k]) for k in RULE_KEYS if k in r] + [(f"attr.{k}", v) for k, v in r.get("attributes", {}).items()]
+    return LayerRule(r.get("match"), r["layer"], bool(r.get("obstructs_sun", True)), tuple(keys))
+
+
+def transform(t: dict) -> Transform:
+    x, y, z = (float(c) for c in t.get("translate_m", (0.0, 0.0, 0.0)))
+    return Transform(float(t.get("rotate_deg", 0.0)), (x, y, z))
+
+
+def model_file(f: dict, directory: Path) -> ModelFile:
+    t = f.get("transform")
+    return ModelFile(path=(directory / f["path"]).resolve(), display=f["path"], layer=f.get("layer"),
+                     obstructs_sun=bool(f.get("obstructs_sun", True)), rules=tuple(layer_rule(r) for r in f.get("layers", ())),
+                     units=f.get("units"), up_axis=f.get("up_axis"),
+                     transform=None if t is None else transform(t),
+                     crs=f.get("crs"), lod=f.get("lod", "highest"), exclude=tuple(f.get("exclude", ())),
+                     exclude_overlapping=bool(f.get("exclude_overlapping", True)),
+                     context_radius_m=float(f.get("context_radius_m", 1000.0)))
+
+
 def model_settings(d: dict, directory: Path) -> ModelSettings:
-    files = tuple(
-        ModelFile(path=(directory / f["path"]).resolve(), display=f["path"], layer=f.get("layer"),
-                  obstructs_sun=bool(f.get("obstructs_sun", True)),
-                  rules=tuple(LayerRule(r["match"], r["layer"], bool(r.get("obstructs_sun", True))) for r in f.get("layers", ())),
-                  units=f.get("units"), up_axis=f.get("up_axis"))
-        for f in d["files"])
+    files = tuple(model_file(f, directory) for f in d["files"])
     return ModelSettings(units=d["units"], up_axis=d["up_axis"], true_north_deg=float(d["true_north_deg"]), files=files)

@@ -7,7 +7,7 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.io.mesh import Mesh, Part
-from en17037cli.project.settings import ModelFile
+from en17037cli.project.settings import LayerRule, ModelFile
 from en17037cli.scene.model import LAYERS
 
 
@@ -25,6 +25,13 @@ def match_candidates(part: Part, stem: str) -> list[str]:
             out.append(value)
             out.extend(value.split())
     return out or [""]
+
+
+def rule_matches(rule: LayerRule, part: Part, candidates: list[str]) -> bool:
+    """Whether every glob of ``rule`` matches: ``match`` one of the part's names, each key its attribute."""
+    if rule.match is not None and not any(fnmatch.fnmatchcase(c, rule.match) for c in candidates):
+        return False
+    return all(key in part.attrs and fnmatch.fnmatchcase(part.attrs[key], glob) for key, glob in rule.keys)
 
 
 def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
@@ -46,7 +53,7 @@ def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[n
     for i, part in enumerate(mesh.parts):  # one pass per part (a named object), not per face
         candidates = match_candidates(part, stem)
         for k, rule in enumerate(spec.rules):
-            if any(fnmatch.fnmatchcase(c, rule.match) for c in candidates):
+            if rule_matches(rule, part, candidates):
                 by_part[i] = layer_code(rule.layer)
                 sun[i] = rule.obstructs_sun
                 used[k] = True
@@ -63,7 +70,7 @@ def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[n
                 f"{where}.layers: face {first} ({label}) matches no layer rule; "
                 "add a rule for it or end the list with {match: \"*\", layer: ...}"
             )
-    warnings = [f"{where}.layers[{k}] (match: '{r.match}', layer: {r.layer}): matches no object of {spec.display}; "
+    warnings = [f"{where}.layers[{k}] ({r.describe()}, layer: {r.layer}): matches no object of {spec.display}; "
                 "check the name (validate --objects lists them)" for k, (r, u) in enumerate(zip(spec.rules, used))
-                if not u and r.match != "*"]
+                if not u and not (r.match == "*" and not r.keys)]
     return by_part, sun, warnings

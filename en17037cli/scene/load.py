@@ -2,17 +2,18 @@
 from __future__ import annotations
 
 import hashlib
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangle_normals
-from en17037cli.io import read_model
-from en17037cli.project.settings import ModelSettings
+from en17037cli.io import ReadOptions, is_context, read_model
+from en17037cli.io.mesh import Mesh
+from en17037cli.project.settings import ModelFile, ModelSettings, Transform
 from en17037cli.scene.layers import assign_layers
-from en17037cli.scene.model import WINDOW, Geometry
+from en17037cli.scene.model import INTERIOR, WINDOW, Geometry
 
 #: Length of one model unit [m].
 UNIT_SCALE_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048, "in": 0.0254}
@@ -38,29 +39,142 @@ def to_metres_z_up(vertices: np.ndarray, units: str, up_axis: str) -> np.ndarray
     return v
 
 
+def transformed(vertices: np.ndarray, t: Transform | None) -> np.ndarray:
+    """Vertices (n, 3) [m] rotated about +z by ``t.rotate_deg`` (counterclockwise seen from above), then translated."""
+    if t is None:
+        return vertices
+    a = np.radians(t.rotate_deg)
+    c, s = np.cos(a), np.sin(a)
+    x, y = vertices[:, 0], vertices[:, 1]
+    return np.column_stack([c * x - s * y, s * x + c * y, vertices[:, 2]]) + np.asarray(t.translate_m, dtype=float)
+
+
+@dataclass
+class LoadedFile:
+    """One model file read into metres, z up, placed: its triangles, parts and per-part layers."""
+
+    index: int
+    spec: ModelFile
+    mesh: Mesh
+    vertices: np.ndarray  # (n, 3) float64 [m], world frame
+    part_layer: np.ndarray  # (parts,) int layer code, -1 ignore
+    part_sun: np.ndarray  # (parts,) bool
+
+
+def read_file(i: int, spec: ModelFile, model: ModelSettings, where: str, options: ReadOptions, warnings: list) -> LoadedFile:
+    """Read model file ``i``, scale it to metres, turn it z-up, place it (``transform``) and layer its parts."""
+    mesh = read_model(spec.path, options)
+    warnings.extend(mesh.warnings)
+    units = spec.units or mesh.units or model.units
+    up = spec.up_axis or mesh.up_axis or model.up_axis
+    verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
+    part_layer, part_sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
+    warnings.extend(unmatched)
+    return LoadedFile(i, spec, mesh, verts, part_layer, part_sun)
+
+
+#: Compound CRSs whose horizontal part is another code: files in either line up in plan.
+HORIZONTAL_CRS = {"EPSG:7415": "EPSG:28992"}  # Amersfoort / RD New + NAP height -> RD New
+
+
+def check_crs(files: list[LoadedFile], where: str) -> str | None:
+    """The one CRS the georeferenced files share (a file's own ``crs`` key wins over what it says),
+    or None when none says; different CRSs are an input error naming both files."""
+    said = [(f.spec.display, f.spec.crs or (f.mesh.site.crs if f.mesh.site else None)) for f in files]
+    said = [(d, c) for d, c in said if c]
+    if not said:
+        return None
+    first = said[0]
+    for d, c in said[1:]:
+        if HORIZONTAL_CRS.get(c, c) != HORIZONTAL_CRS.get(first[1], first[1]):
+            raise InputError(f"{where}: model.files: {first[0]} is in {first[1]} but {d} is in {c}; give both in one CRS "
+                             "(reproject one, or set the 'crs' key of a file whose own is wrong)")
+    return first[1]
+
+
+def building_footprint(files: list[LoadedFile]):
+    """Plan of the model's own building [m, world xy]: its horizontal interior faces (slabs, floors,
+    roofs) unioned, or the convex hull of its interior faces where none is horizontal; None without any."""
+    import shapely
+
+    tris = [f.vertices[f.mesh.triangles[f.part_layer[f.mesh.part] == INTERIOR]] for f in files]
+    tris = np.concatenate(tris) if tris else np.zeros((0, 3, 3))
+    if len(tris) == 0:
+        return None
+    normals, areas = triangle_normals(tris)
+    flat = (np.abs(normals[:, 2]) > 0.99) & (areas > MIN_FACE_AREA_M2)
+    if np.any(flat):
+        return shapely.union_all(shapely.make_valid(shapely.polygons(tris[flat][..., :2])))
+    return shapely.convex_hull(shapely.multipoints(tris.reshape(-1, 3)[:, :2]))
+
+
 def load_geometry(model: ModelSettings, where: str) -> Geometry:
     """Read every model file into world-frame float64 triangles with layers (:class:`Geometry`).
 
-    ``where`` names the project file in messages. Degenerate, NaN and infinite faces are dropped
-    with one counted warning.
+    The model's own files are read first; city models (context) then, with what lies farther than
+    ``context_radius_m`` from the model's windows left out before triangulation, and the buildings
+    that overlap the model's own plan left out (``exclude_overlapping``). ``where`` names the project
+    file in messages. Degenerate, NaN and infinite faces are dropped with one counted warning.
     """
-    all_v, all_t, all_l, all_s, all_p, parts, notes, warnings, hashes = [], [], [], [], [], [], [], [], {}
-    offset = 0
-    dropped = glazing_parts = 0
-    for i, spec in enumerate(model.files):  # one pass per model file
+    notes: list[str] = []
+    warnings: list[str] = []
+    hashes = {}
+    own, context = [], []
+    for i, spec in enumerate(model.files):  # the model's own files first
         if spec.all_ignored:
             notes.append(f"{spec.display}: every face goes to 'ignore'; file not loaded")
             continue
         hashes[spec.display] = file_hash(spec.path)
-        mesh = read_model(spec.path)
-        warnings.extend(mesh.warnings)
-        units = spec.units or mesh.units or model.units
-        up = spec.up_axis or mesh.up_axis or model.up_axis
-        verts = to_metres_z_up(mesh.vertices, units, up)
-        part_layer, part_sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
-        warnings.extend(unmatched)
-        glazing_parts += int(np.count_nonzero(part_layer == WINDOW))
-        layer, sun = part_layer[mesh.part], part_sun[mesh.part]
+        if is_context(spec.path):
+            context.append((i, spec))
+        else:
+            own.append(read_file(i, spec, model, where, ReadOptions(exclude=spec.exclude), warnings))
+    if context:
+        near_xy, footprint = _context_bounds(own)
+        for i, spec in context:  # city models: cut to the radius, without the model's own building
+            options = ReadOptions(lod=spec.lod, exclude=spec.exclude,
+                                  near=None if near_xy is None else (near_xy, spec.context_radius_m))
+            f = read_file(i, spec, model, where, options, warnings)
+            if spec.exclude_overlapping and footprint is not None:
+                f = _without_the_building(f, footprint, notes)
+            own.append(f)
+    for f in own:
+        notes.extend(f.mesh.notes)
+    check_crs(own, where)
+    return _assemble(own, notes, warnings, hashes, where)
+
+
+def _context_bounds(files: list[LoadedFile]):
+    """Centre of the model's windows (else of all its vertices) [m, world xy] and its building's plan."""
+    win = [f.vertices[f.mesh.triangles[f.part_layer[f.mesh.part] == WINDOW]].reshape(-1, 3) for f in files]
+    win = np.concatenate(win) if win else np.zeros((0, 3))
+    pts = win if len(win) else (np.concatenate([f.vertices for f in files]) if files else np.zeros((0, 3)))
+    centre = None if len(pts) == 0 else tuple(0.5 * (pts[:, :2].min(axis=0) + pts[:, :2].max(axis=0)))
+    return centre, building_footprint(files)
+
+
+def _without_the_building(f: LoadedFile, footprint, notes: list) -> LoadedFile:
+    """The city model ``f`` without the buildings whose plan overlaps ``footprint`` by half or more."""
+    from en17037cli.io.cityjson import footprint_overlap, without_objects
+
+    placed = replace(f.mesh, vertices=f.vertices)
+    ids = footprint_overlap(placed, footprint, 0.5)
+    if not ids:
+        return f
+    notes.append(f"{f.spec.display}: {len(ids)} building(s) overlapping the model's own plan left out "
+                 f"(exclude_overlapping): {', '.join(ids[:5])}{' ...' if len(ids) > 5 else ''}")
+    mesh = without_objects(placed, ids)
+    return replace(f, mesh=mesh, vertices=mesh.vertices)
+
+
+def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> Geometry:
+    all_v, all_t, all_l, all_s, all_p, parts = [], [], [], [], [], []
+    offset = 0
+    dropped = glazing_parts = 0
+    for f in files:  # one pass per model file
+        mesh, verts = f.mesh, f.vertices
+        glazing_parts += int(np.count_nonzero(f.part_layer == WINDOW))
+        layer, sun = f.part_layer[mesh.part], f.part_sun[mesh.part]
         tris = mesh.triangles
         keep = layer >= 0
         tri_v = verts[tris]
@@ -74,7 +188,7 @@ def load_geometry(model: ModelSettings, where: str) -> Geometry:
         all_l.append(layer[keep])
         all_s.append(sun[keep])
         all_p.append(mesh.part[keep] + len(parts))
-        parts.extend(replace(p, attrs={**p.attrs, "file": spec.path.stem}) for p in mesh.parts)
+        parts.extend(replace(p, attrs={**p.attrs, "file": f.spec.path.stem}) for p in mesh.parts)
         offset += len(verts)
     if dropped:
         warnings.append(f"{dropped} degenerate, NaN or infinite faces dropped")
