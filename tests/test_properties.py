@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import tolerances as tol
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -27,13 +28,7 @@ def _check(build, offset):
         ref.offset = np.zeros(3)
         _reference["ref"] = _values(ref)
     (r0, s0), (r1, s1) = _reference["ref"], _values(b)
-    assert np.all(np.abs(r1.sight.angle_deg - r0.sight.angle_deg) <= 0.01)  # angles to 0.01 deg
-    assert np.all(np.abs(r1.distance_m - r0.distance_m) <= 1e-3)  # distances to 1 mm
-    for k in ("sky", "landscape", "ground"):
-        # the same cells are traced; only float32 round-off of the local frame can move a
-        # boundary cell, each well under the estimate
-        assert np.all(np.abs(r1.solid.sr[k] - r0.solid.sr[k]) <= np.maximum(r0.solid.err_sr[k] + r1.solid.err_sr[k], 1e-9)), k
-    assert np.all(np.abs(s1.hours - s0.hours) <= s0.error_h + s1.error_h + 1e-9)
+    _compare(r0, s0, r1, s1)
 
 
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -55,12 +50,19 @@ def _rotated(points, deg):
     return points @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]).T
 
 
+#: Two runs of one geometry in another frame, units or face order [sr]: float32 round-off can move a
+#: sample across a layer boundary, which moves at most a quarter of a finest cell (0.5 deg at these
+#: settings: 7.6e-5 sr) from one layer to another; two such flips. (Measured: 1.2e-10 sr.)
+SOLID_ANGLE_SR = 4e-5
+
+
 def _compare(r0, s0, r1, s1):
-    assert np.all(np.abs(r1.sight.angle_deg - r0.sight.angle_deg) <= 0.01)
-    assert np.all(np.abs(r1.distance_m - r0.distance_m) <= 1e-3)
+    assert np.all(np.abs(r1.sight.angle_deg - r0.sight.angle_deg) <= 2 * tol.SIGHT_ANGLE_DEG)  # each within it of the truth
+    assert np.all(np.abs(r1.distance_m - r0.distance_m) <= tol.DISTANCE_M)
     for k in ("sky", "landscape", "ground"):
-        assert np.all(np.abs(r1.solid.sr[k] - r0.solid.sr[k]) <= np.maximum(r0.solid.err_sr[k] + r1.solid.err_sr[k], 1e-9)), k
-    assert np.all(np.abs(s1.hours - s0.hours) <= s0.error_h + s1.error_h + 1e-9)
+        assert np.all(np.abs(r1.solid.sr[k] - r0.solid.sr[k]) <= SOLID_ANGLE_SR), k
+    # two changes a day, each within 1 s of the same truth in both runs
+    assert np.all(np.abs(s1.hours - s0.hours) * 3600 <= 2 * 2 * 1.0)
 
 
 def _reference_values(build):

@@ -97,7 +97,7 @@ def test_several_floors_at_floor_z_need_a_floor_or_the_windows(tmp_path):
     edit(path, lambda d: d["rooms"][0].pop("floor"))
     one_line_error(invoke("check", path, "-q"), "rooms[0] '1.N01': 2 separate floors at floor_z; give 'floor' as a polygon")
     edit(path, lambda d: d["rooms"][0].update(windows=["W 1.N*"]))  # the floor beside the named window
-    assert invoke("check", path, "-q", "--out", tmp_path / "o").exit_code in (0, 1)
+    assert invoke("check", path, "-q", "--out", tmp_path / "o").exit_code == 1  # a north room: no sun in February
     assert json.loads((tmp_path / "o" / "report.json").read_text())["rooms"][0]["floor_area_m2"] == 19.5
 
 
@@ -166,7 +166,7 @@ def test_an_eye_height_with_no_window_gives_sight_angle_zero(tmp_path):
     path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=None, view={**FAST_VIEW, "eye_heights_m": [0.5, 1.2]})
     out = tmp_path / "o"
     r = invoke("check", path, "--out", out, "-q", "--set", "requirements.sunlight=none")
-    assert r.exit_code in (0, 1), r.output
+    assert r.exit_code == 1, r.output  # the 0.5 m eye height reaches no level: the room's view is 'none'
     eyes = json.loads((out / "report.json").read_text())["rooms"][0]["view"]["eye_heights"]
     low = eyes[0]
     assert low["eye_height_m"] == 0.5 and low["level_by_criterion"]["horizontal_sight_angle"] == "none"
@@ -183,9 +183,11 @@ def test_a_finely_tessellated_round_window_keeps_memory_bounded(tmp_path):
     """A round pane of 2000 segments in a 5 cm frame ring (4000 frame vertices). Before: 8 GB at 200
     segments, out of memory. Now the whole check stays under 600 MB (a child process's peak RSS)."""
     path = round_window_scene(tmp_path / "p", 2000)
-    code = ("import resource, sys; from en17037cli.cli import main; sys.argv = ['en17037', 'check', sys.argv[1], '-q', "
+    # peak RSS of the child's own address space (VmHWM): ru_maxrss would count the forking pytest's memory
+    code = ("import sys; from en17037cli.cli import main; sys.argv = ['en17037', 'check', sys.argv[1], '-q', "
             "'--out', sys.argv[2], '--set', 'requirements.sunlight=none']\ntry:\n    main()\nexcept SystemExit as e:\n"
-            "    print(e.code, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)")
+            "    hwm = [ln for ln in open('/proc/self/status') if ln.startswith('VmHWM')][0].split()[1]\n"
+            "    print(e.code, hwm)")
     p = subprocess.run([sys.executable, "-c", code, str(path), str(tmp_path / "o")], capture_output=True, text=True, timeout=300)
     code, rss_kb = p.stdout.split()
     assert code in ("0", "1"), p.stderr
@@ -215,14 +217,18 @@ def test_point_p_above_the_head_of_one_window_leaves_the_other(tmp_path):
     objects["glazing low"] = [_rect_y(0.0, 1.3, 1.8, 0.2, 1.0)]
     write_obj(path.parent / "model.obj", objects)
     r = invoke("check", path, "--out", tmp_path / "o", "-q", "--set", "requirements.view=none")
-    assert r.exit_code in (0, 1), r.output
+    assert r.exit_code == 0, r.output
     s = json.loads((tmp_path / "o" / "report.json").read_text())["rooms"][0]["sunlight"]
     low = [w for w in s["windows"] if w["name"] == "glazing low"][0]
     assert low["point_p_m"] is None and low["status"] == "not_assessable"
     assert ("window 'glazing low': point P at max(floor + 1.2 m, sill + 0.3 m) = 1.200 m above the floor lies above the "
             "window head (1.000 m)") in low["reason"]
     main = [w for w in s["windows"] if w["name"] == "glazing"][0]
-    assert main["point_p_m"] == [0.0, 0.001, 1.2] and s["status"] in ("pass", "fail") and s["hours"] > 0
+    assert main["point_p_m"] == [0.0, 0.001, 1.2] and s["status"] == "pass"
+    # the sun seen from the main window's P is the box room's own: the low window adds nothing
+    plain = box_room_project(tmp_path / "plain", BoxRoom(), sunlight=SUN, view=None)
+    invoke("check", plain, "--out", tmp_path / "o2", "-q", "--set", "requirements.view=none")
+    assert s["hours"] == json.loads((tmp_path / "o2" / "report.json").read_text())["rooms"][0]["sunlight"]["hours"]
 
 
 def test_a_room_whose_only_window_has_no_point_p_is_not_assessable(tmp_path):
@@ -326,7 +332,7 @@ def test_max_points_raises_the_budget(tmp_path):
     path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=None, view=FAST_VIEW)
     one_line_error(invoke("check", path, "--max-points", "3", "--set", "requirements.sunlight=none"), "budget of 3 viewpoints")
     r = invoke("check", path, "--max-points", "1000", "-q", "--out", tmp_path / "o", "--set", "requirements.sunlight=none")
-    assert r.exit_code in (0, 1)
+    assert r.exit_code == 0  # 12 viewpoints, within the budget of 1000; view 'medium' as required
 
 
 def test_yaml_alias_bomb_and_oversized_files_are_rejected_up_front(tmp_path):
@@ -362,10 +368,10 @@ def test_reports_replace_only_our_own_and_another_project_cannot_take_the_folder
     out = tmp_path / "out"
     out.mkdir()
     (out / "notes.md").write_text("mine")
-    assert invoke("check", a, "--out", out, "-q").exit_code in (0, 1)
+    assert invoke("check", a, "--out", out, "-q").exit_code == 0
     manifest = json.loads((out / MANIFEST).read_text())
     assert manifest == {"tool": "en17037cli", "project": str(a.resolve()), "files": sorted(REPORT_FILES)}
-    assert invoke("check", a, "--out", out, "-q").exit_code in (0, 1)  # the same project replaces its reports
+    assert invoke("check", a, "--out", out, "-q").exit_code == 0  # the same project replaces its reports
     one_line_error(invoke("check", b, "--out", out), f"report.json there was written by project {a.resolve()}")
     assert (out / "notes.md").read_text() == "mine"
     assert not [p for p in out.parent.iterdir() if p.name.startswith(TMP_PREFIX)]
@@ -376,7 +382,7 @@ def test_default_report_folder_is_per_project_file(tmp_path):
     b = a.parent / "variant.yaml"
     b.write_text(a.read_text())
     for p in (a, b):
-        assert invoke("check", p, "-q").exit_code in (0, 1)
+        assert invoke("check", p, "-q").exit_code == 0
     assert (a.parent / "en17037-report" / "project" / "report.json").is_file()
     assert (a.parent / "en17037-report" / "variant" / "report.json").is_file()
 

@@ -7,12 +7,9 @@ from en17037cli.samples.box import (
     BoxRoom,
     box_room_polygons,
     box_room_project,
-    layer_solid_angles,
-    rect_solid_angle_y0,
-    sight_angle_deg,
     write_obj,
 )
 from en17037cli.samples.city import city_context, write_ply
 
-__all__ = ["MULLION_GAP", "SCALE_UNITS", "BoxRoom", "box_room_polygons", "box_room_project", "layer_solid_angles",
-           "rect_solid_angle_y0", "sight_angle_deg", "write_obj", "city_context", "write_ply"]
+__all__ = ["MULLION_GAP", "SCALE_UNITS", "BoxRoom", "box_room_polygons", "box_room_project",
+           "write_obj", "city_context", "write_ply"]

@@ -1,9 +1,9 @@
 """Geometric functions against closed forms."""
 import numpy as np
 import pytest
+from oracles import rect_solid_angle_y0
 
 from en17037cli.geometry import rectangle_solid_angle, triangle_normals, triangle_solid_angle, triangulate_polygon
-from en17037cli.samples import rect_solid_angle_y0
 from en17037cli.standard import THRESHOLDS, LevelThresholds, level_from_layers, level_from_value, near_threshold, room_level
 
 

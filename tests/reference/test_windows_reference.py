@@ -10,30 +10,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
+import tolerances as tol
+from oracles import layer_solid_angles, polygon_solid_angle_y0, sight_angle_deg
 
-from en17037cli.geometry import triangle_solid_angle
-from en17037cli.samples import MULLION_GAP, BoxRoom, layer_solid_angles, sight_angle_deg
+from en17037cli.samples import MULLION_GAP, BoxRoom
 
 POINTS = np.array([[0.3, 2.0, 1.2], [-1.2, 5.5, 1.7], [0.9, 0.8, 1.2], [0.0, 3.0, 1.7]])
 
 
 def run(b, pts):
     return b.view_points(pts)
-
-
-def polygon_solid_angle(p, poly) -> float:
-    """Solid angle [sr] of a polygon in the plane y = 0 (x, z coordinates) seen from p: fan of
-    exact triangle solid angles over a triangulation of the polygon."""
-    if poly.is_empty or poly.area == 0:
-        return 0.0
-    total = 0.0
-    for tri in shapely.delaunay_triangles(poly).geoms:
-        if not tri.within(poly.buffer(1e-9)):
-            continue
-        xz = np.asarray(tri.exterior.coords)[:3]
-        t3 = np.column_stack([xz[:, 0], np.zeros(3), xz[:, 1]])[None]
-        total += float(triangle_solid_angle(np.asarray(p, float)[None], t3)[0])
-    return total
 
 
 def bands(p, box: BoxRoom):
@@ -55,18 +41,20 @@ def test_triangular_window_layers_by_polygon_clipping(build, i):
     p = POINTS[i]
     r = run(b, p[None])
     tri = shapely.Polygon([(-1, 0.8), (1, 0.8), (-1, 2.2)])
-    assert abs(r.solid.glazing_sr[0] - polygon_solid_angle(p, tri)) < 1e-9
+    assert abs(r.solid.glazing_sr[0] - polygon_solid_angle_y0(p, tri)) < tol.TILING_SR
     for key, band in zip(("sky", "landscape", "ground"), bands(p, box)):
-        exact = polygon_solid_angle(p, tri.intersection(band))
+        exact = polygon_solid_angle_y0(p, tri.intersection(band))
         err = abs(r.solid.sr[key][0] - exact)
-        assert err <= r.solid.err_sr[key][0] + 1e-9, (key, r.solid.sr[key][0], exact, r.solid.err_sr[key][0])
-        assert err <= 2e-3
+        # the clipped cells along the sloping edge: within 2e-3 sr at these points (measured: <= 1.3e-3)
+        assert err <= 2e-3, (key, r.solid.sr[key][0], exact)
+        assert err <= r.solid.err_sr[key][0] + 1e-12  # the estimate covers the error
+        assert r.solid.err_sr[key][0] <= tol.SOLID_ANGLE_ESTIMATE_MAX_SR
     # the horizontal fan meets the triangle's sloping edge: the chord at eye height
     z = p[2]
     x_edge = -1 + 2 * (2.2 - z) / 1.4  # the hypotenuse from (1, 0.8) to (-1, 2.2)
     half, centre = (x_edge + 1) / 2, (x_edge - 1) / 2
     expected = sight_angle_deg(p[0] - centre, p[1], half=half)
-    assert abs(r.sight.angle_deg[0] - expected) <= r.sight.angle_err_deg[0] + 1e-9
+    assert abs(r.sight.angle_deg[0] - expected) <= tol.SIGHT_ANGLE_DEG
 
 
 def test_double_glazing_is_not_counted_twice(build):
@@ -76,9 +64,11 @@ def test_double_glazing_is_not_counted_twice(build):
     assert len(double.room.windows) == 2
     pts = POINTS[[0, 1, 3]]
     r1, r2 = run(single, pts), run(double, pts)
-    for key in ("sky", "landscape", "ground"):
-        assert np.all(np.abs(r2.solid.sr[key] - r1.solid.sr[key]) <= r1.solid.err_sr[key] + r2.solid.err_sr[key] + 1e-9), key
-    assert np.all(np.abs(r2.sight.angle_deg - r1.sight.angle_deg) <= 0.01)
+    for i, p in enumerate(pts):  # both against the closed form of the single window
+        for key, exact in zip(("sky", "landscape", "ground"), layer_solid_angles(p)):
+            assert abs(r1.solid.sr[key][i] - exact) <= tol.solid_angle_sr(exact), key
+            assert abs(r2.solid.sr[key][i] - exact) <= tol.solid_angle_sr(exact), key
+        assert abs(r2.sight.angle_deg[i] - sight_angle_deg(p[0], p[1])) <= tol.SIGHT_ANGLE_DEG
 
 
 def test_mullions_5_cm_wide_are_resolved_from_the_back_of_the_room(build):
@@ -94,17 +84,19 @@ def test_mullions_5_cm_wide_are_resolved_from_the_back_of_the_room(build):
         opening = shapely.box(-1, 0.8, 1, 2.2)
         shadows = [shapely.box(x0 + (xm - 0.025 - x0) * s, 0.0, x0 + (xm + 0.025 - x0) * s, 3.0) for xm in box.mullions]
         visible = opening.difference(shapely.union_all(shadows))
-        no_mullion = layer_solid_angles(p, BoxRoom(depth=8.0))
+        no_mullion = layer_solid_angles(p)
         for key, band, plain in zip(("sky", "landscape", "ground"), bands(p, box), no_mullion):
-            exact = polygon_solid_angle(p, visible.intersection(band))
+            exact = polygon_solid_angle_y0(p, visible.intersection(band))
             assert exact < plain - 1e-4 or plain == 0  # the mullions matter
             err = abs(r.solid.sr[key][i] - exact)
-            assert err <= r.solid.err_sr[key][i] + 1e-9, (i, key, r.solid.sr[key][i], exact)
+            assert err <= tol.solid_angle_sr(exact), (i, key, r.solid.sr[key][i], exact)
+            assert err <= r.solid.err_sr[key][i] + 1e-12, (i, key)  # the estimate covers the error
         # sight angle: the fan (0.1 deg) sees both 0.5 deg gaps, bisected to 1e-4 deg
         full = sight_angle_deg(x0, y0)
         lost = sum(np.degrees(np.arctan2(xm + 0.025 - x0, y0 - MULLION_GAP) - np.arctan2(xm - 0.025 - x0, y0 - MULLION_GAP))
                    for xm in box.mullions)
-        assert abs(r.sight.angle_deg[i] - (full - lost)) <= r.sight.angle_err_deg[i] + 1e-9
+        # four bisected edges (the mullions') with brackets of 1e-4 deg, and the two end insets of 5e-5 deg
+        assert abs(r.sight.angle_deg[i] - (full - lost)) <= 5e-4
 
 
 def test_a_2_cm_gap_between_two_windows_from_the_back_of_a_deep_room(build):
@@ -119,8 +111,9 @@ def test_a_2_cm_gap_between_two_windows_from_the_back_of_a_deep_room(build):
     for i, p in enumerate(pts):
         x0, y0 = p[0], p[1]
         gap = np.degrees(np.arctan2(0.01 - x0, y0) - np.arctan2(-0.01 - x0, y0))
-        assert abs(r.sight.angle_deg[i] - (sight_angle_deg(x0, y0) - gap)) <= r.sight.angle_err_deg[i] + 1e-9
+        assert abs(r.sight.angle_deg[i] - (sight_angle_deg(x0, y0) - gap)) <= tol.SIGHT_ANGLE_DEG
         visible = shapely.box(-1, 0.8, -0.01, 2.2).union(shapely.box(0.01, 0.8, 1, 2.2))
         for key, band in zip(("sky", "landscape", "ground"), bands(p, box)):
-            exact = polygon_solid_angle(p, visible.intersection(band))
-            assert abs(r.solid.sr[key][i] - exact) <= r.solid.err_sr[key][i] + 1e-9, (i, key)
+            exact = polygon_solid_angle_y0(p, visible.intersection(band))
+            assert abs(r.solid.sr[key][i] - exact) <= tol.solid_angle_sr(exact), (i, key)
+            assert abs(r.solid.sr[key][i] - exact) <= r.solid.err_sr[key][i] + 1e-12, (i, key)
