@@ -209,4 +209,7 @@ def test_seed_office_view_runs_at_both_eye_heights(tmp_path):
         a, b = ends - np.array(p["point"][:2])
         full = np.degrees(np.arccos(a @ b / np.linalg.norm(a) / np.linalg.norm(b)))
         assert 2 / 3 * full <= p["horizontal_sight_angle_deg"] <= full + 3e-4, (p, full)
+    # counted, not silent: 90 zero-area faces of the context (ear-clipping slivers of self-intersecting n-gons)
+    assert "90 degenerate, NaN or infinite faces dropped" in report["warnings"]
+    assert any(re.fullmatch(r"[1-9]\d* degenerate, NaN or infinite faces dropped", w) for w in report["warnings"])
     assert "| office | **view out (5.2)** |" in (out / "report.md").read_text()
