@@ -32,10 +32,13 @@ DPI = 100
 PLAN_SIZE_IN = (5.0, 4.0)
 FISHEYE_SIZE_IN = (5.6, 4.0)
 CHART_SIZE_IN = (5.0, 3.2)
-#: The fisheye's axes [figure fraction] (left, bottom, width, height): a square of 3.6 in, and its
-#: data limits on both axes (the 180 deg circle has radius 1).
-FISHEYE_AXES = (0.1 / 5.6, 0.1 / 4.0, 3.6 / 5.6, 3.6 / 4.0)
-FISHEYE_LIM = 1.12
+#: Plan maps: the box the plan is fitted into [px from the bottom-left] (left, bottom, width, height),
+#: and the colour bar's (left, bottom, width, height) [px].
+PLAN_BOX_PX = (15, 50, 290, 300)
+COLOUR_BAR_PX = (330, 70, 14, 200)
+#: Fisheye: centre of the 180 deg circle [px] (column, row from the top of the PNG) and its radius [px].
+FISHEYE_CENTRE_PX = (190, 205)
+FISHEYE_RADIUS_PX = 160
 
 #: Level colours, none .. high: viridis at 0, 1/3, 2/3, 1 (L* 15, 42, 67, 91).
 LEVEL_COLOURS = ("#440154", "#31688e", "#35b779", "#fde725")
@@ -55,9 +58,13 @@ LAYER_COLOURS = ("#440154", "#46327e", "#365c8d", "#277f8e", "#1fa187", "#4ac16d
 OUTSIDE, BLOCKED, CLASS_SKY, CLASS_LANDSCAPE, CLASS_GROUND = -1, 0, 1, 2, 3
 CLASS_NAMES = {BLOCKED: "blocked, interior", CLASS_SKY: "sky", CLASS_LANDSCAPE: "landscape", CLASS_GROUND: "ground"}
 CLASS_COLOURS = {OUTSIDE: "#ffffff", BLOCKED: "#333333", CLASS_GROUND: "#8a6a48", CLASS_LANDSCAPE: "#6aa84f", CLASS_SKY: "#bfe0f5"}
+#: Windows on plans (light blue inside a black casing).
+WINDOW_COLOUR = "#8fd3ff"
 #: Sun paths (drawn over a black casing so they read on light and dark classes).
 SUN_PATH_COLOUR = "#ff7f00"
 
+#: Sun-hours chart: the days' bars and the assessed day's (dark and hatched) bar.
+BAR_COLOUR, ASSESSED_COLOUR = "#b0b0b0", "#08306b"
 #: Continuous colour maps (monotone luminance).
 CMAP = {"sight_angle": "viridis", "distance": "cividis"}
 #: Distances below this are drawn in the lowest colour [m].
@@ -340,67 +347,89 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     squares = _cell_squares(pts_t, spacing_m)
     north = r @ np.array([math.sin(math.radians(true_north_deg)), math.cos(math.radians(true_north_deg))])
 
+    faces, legend, bar = _plan_colours(kind, vals, thresholds)
+    ok = np.all(np.isfinite(faces), axis=1)
+    allxy = np.vstack([floor_t, squares.reshape(-1, 2)] + ([util_t] if util_t is not None else []))
+    lo, hi = allxy.min(axis=0), allxy.max(axis=0)
+    (bx0, by0), (bw, bh) = PLAN_BOX_PX[:2], PLAN_BOX_PX[2:]
+    bar_px = 30.0  # room for the scale bar under the plan
+    scale = min(bw / max(float(hi[0] - lo[0]), 1e-9), (bh - bar_px) / max(float(hi[1] - lo[1]), 1e-9))  # [px/m]
+    mid = 0.5 * (lo + hi)
+    # the plan and its scale bar centred in the box
+    ox, oy = bx0 + bw / 2, by0 + bh / 2 + 0.5 * bar_px
+    has_near = near_m is not None and bool(near_m.any())
+
     def draw(fig):
         from matplotlib.collections import PolyCollection
-        from matplotlib.patches import Patch, Polygon, Rectangle
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Polygon, Rectangle
+        from matplotlib.transforms import Affine2D, IdentityTransform
 
-        ax = fig.add_axes((0.02, 0.04, 0.62, 0.86))
-        ax.set_axis_off()
-        ax.set_aspect("equal")
-        faces, legend, bar = _plan_colours(kind, vals, thresholds)
-        ok = np.all(np.isfinite(faces), axis=1)
+        px = IdentityTransform()
+        T = Affine2D().translate(-mid[0], -mid[1]).scale(scale).translate(ox, oy)
         if ok.any():
-            ax.add_collection(PolyCollection(squares[ok], facecolors=faces[ok], edgecolors="none", antialiased=False))
+            # not anti-aliased: neighbouring cells share their edges without a light seam
+            fig.add_artist(PolyCollection(squares[ok], facecolors=faces[ok], edgecolors="none", antialiased=False, transform=T))
         if (~ok).any():
-            ax.add_collection(PolyCollection(squares[~ok], facecolors="none", edgecolors="#999999", linewidths=0.5))
-        ax.add_patch(Polygon(floor_t, closed=True, fill=False, edgecolor="black", linewidth=1.2))
+            fig.add_artist(PolyCollection(squares[~ok], facecolors="none", edgecolors="#999999", linewidths=0.5, transform=T))
+        fig.add_artist(Polygon(floor_t, closed=True, fill=False, edgecolor="black", linewidth=1.2, transform=T))
         if util_t is not None:
-            ax.add_patch(Polygon(util_t, closed=True, fill=False, edgecolor="black", linewidth=0.8, linestyle=(0, (4, 3))))
+            fig.add_artist(Polygon(util_t, closed=True, fill=False, edgecolor="black", linewidth=0.8, linestyle=(0, (4, 3)), transform=T))
         for w in win_t:
-            ax.plot(w[:, 0], w[:, 1], color="black", linewidth=5.0, solid_capstyle="butt")
-            ax.plot(w[:, 0], w[:, 1], color="#8fd3ff", linewidth=3.0, solid_capstyle="butt")
-        if near_m is not None and near_m.any():
-            ax.plot(pts_t[near_m, 0], pts_t[near_m, 1], linestyle="none", marker="o", markersize=5, markerfacecolor="none",
-                    markeredgecolor="white", markeredgewidth=2.0)
-            ax.plot(pts_t[near_m, 0], pts_t[near_m, 1], linestyle="none", marker="o", markersize=5, markerfacecolor="none",
-                    markeredgecolor="black", markeredgewidth=0.9)
-        allxy = np.vstack([floor_t, squares.reshape(-1, 2)] + ([util_t] if util_t is not None else []))
-        lo, hi = allxy.min(axis=0), allxy.max(axis=0)
-        span = max(float((hi - lo).max()), 1e-6)
-        pad = 0.04 * span
+            for colour, lw in (("black", 5.0), (WINDOW_COLOUR, 3.0)):
+                fig.add_artist(Line2D(w[:, 0], w[:, 1], color=colour, linewidth=lw, solid_capstyle="butt", transform=T))
+        if has_near:
+            for colour, mew in (("white", 2.0), ("black", 0.9)):
+                fig.add_artist(Line2D(pts_t[near_m, 0], pts_t[near_m, 1], linestyle="none", marker="o", markersize=5,
+                                      markerfacecolor="none", markeredgecolor=colour, markeredgewidth=mew, transform=T))
+        # scale bar under the plan: two halves, black and white
         sb = _scale_bar_m(float(hi[0] - lo[0]))
-        bar_h = 0.12 * span
-        ax.set_xlim(lo[0] - pad, hi[0] + pad)
-        ax.set_ylim(lo[1] - pad - bar_h, hi[1] + pad)
-        # scale bar: two halves, black and white, under the plan
-        y0 = lo[1] - pad - 0.55 * bar_h
-        th = 0.012 * span
-        ax.add_patch(Rectangle((lo[0], y0), sb / 2, th, facecolor="black", edgecolor="black", linewidth=0.6))
-        ax.add_patch(Rectangle((lo[0] + sb / 2, y0), sb / 2, th, facecolor="white", edgecolor="black", linewidth=0.6))
-        ax.text(lo[0] + sb + 0.02 * span, y0 + th / 2, f"{_fmt_num(sb)} m", va="center", ha="left", fontsize=7)
+        x0, y0, L = ox + (lo[0] - mid[0]) * scale, oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0, sb * scale
+        fig.add_artist(Rectangle((x0, y0), L / 2, 5, facecolor="black", edgecolor="black", linewidth=0.6, transform=px))
+        fig.add_artist(Rectangle((x0 + L / 2, y0), L / 2, 5, facecolor="white", edgecolor="black", linewidth=0.6, transform=px))
+        fig.text(x0 + L + 6, y0 + 2.5, f"{_fmt_num(sb)} m", va="center", ha="left", fontsize=7, transform=px)
         if title:
-            fig.text(0.02, 0.96, title, ha="left", va="top", fontsize=9)
-        _north_arrow(fig.add_axes((0.70, 0.78, 0.14, 0.16)), north)
+            fig.text(12, PLAN_SIZE_IN[1] * DPI - 8, title, ha="left", va="top", fontsize=9, transform=px)
+        _north_arrow(fig, (420.0, 350.0), north)
+        near_entry = [("marker", {"marker": "o", "markersize": 5, "markerfacecolor": "none", "markeredgecolor": "black"},
+                       "within error of a threshold")] if has_near else []
         if bar is not None:
-            _colour_bar(fig, fig.add_axes((0.70, 0.14, 0.035, 0.54)), *bar)
+            _colour_bar(fig, *bar)
+            if near_entry:
+                _legend(fig, 318.0, 30.0, near_entry)
         else:
-            handles = [Patch(facecolor=c, edgecolor="black", linewidth=0.4, label=lab) for c, lab in legend]
-            if near_m is not None and near_m.any():
-                handles.append(_near_handle())
-            fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.65, 0.78), fontsize=6.5, handlelength=1.2,
-                       title="level" if kind == "level" else "layers seen", title_fontsize=7, alignment="left")
-            return
-        if near_m is not None and near_m.any():
-            fig.legend(handles=[_near_handle()], loc="lower left", bbox_to_anchor=(0.65, 0.0), fontsize=6.5)
+            _legend(fig, 318.0, 300.0, [("patch", c, lab) for c, lab in legend] + near_entry,
+                    title="level" if kind == "level" else "layers seen")
 
     return _render(draw, PLAN_SIZE_IN)
 
 
-def _near_handle():
-    from matplotlib.lines import Line2D
+def _legend(fig, x: float, y: float, entries: list, title: str | None = None, row: float = 15.0, size: float = 6.5) -> float:
+    """A legend drawn with plain artists from its top-left corner (x, y) [px]; returns the y below it.
 
-    return Line2D([], [], linestyle="none", marker="o", markersize=5, markerfacecolor="none", markeredgecolor="black",
-                  label="within error of a threshold")
+    entries : list of (kind, style, label); kind "patch" (style: face colour), "line" (style: list
+    of Line2D keyword dicts drawn on top of each other) or "marker" (style: Line2D keywords)
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Rectangle
+    from matplotlib.transforms import IdentityTransform
+
+    px = IdentityTransform()
+    if title:
+        fig.text(x, y, title, ha="left", va="top", fontsize=size + 0.5, transform=px)
+        y -= row + 2
+    for kind, style, label in entries:
+        cy = y - row / 2
+        if kind == "patch":
+            fig.add_artist(Rectangle((x, cy - 5), 16, 10, facecolor=style, edgecolor="black", linewidth=0.4, transform=px))
+        elif kind == "line":
+            for kw in style:
+                fig.add_artist(Line2D([x, x + 16], [cy, cy], transform=px, **kw))
+        else:
+            fig.add_artist(Line2D([x + 8], [cy], linestyle="none", transform=px, **style))
+        fig.text(x + 22, cy, label, ha="left", va="center", fontsize=size, transform=px)
+        y -= row
+    return y
 
 
 def _continuous_norm(kind: str, vals: np.ndarray, thresholds: dict):
@@ -491,37 +520,56 @@ def _layer_level(code: int) -> str:
     return "medium" if code & (SKY | GROUND) else "minimum"
 
 
-def _colour_bar(fig, cax, norm, cmap_name, extend, label, thresholds, kind):
-    """A colour bar with the level thresholds drawn across it and named."""
+def _colour_bar(fig, norm, cmap_name, extend, label, thresholds, kind):
+    """A colour bar drawn as a pixel image at :data:`COLOUR_BAR_PX`, the level thresholds across it."""
     import matplotlib
-    from matplotlib.cm import ScalarMappable
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Polygon, Rectangle
+    from matplotlib.transforms import IdentityTransform
 
-    cb = fig.colorbar(ScalarMappable(norm=norm, cmap=matplotlib.colormaps[cmap_name]), cax=cax, extend=extend)
+    px = IdentityTransform()
+    cmap = matplotlib.colormaps[cmap_name]
+    x0, y0, w, h = COLOUR_BAR_PX
+    t = (np.arange(h)[::-1] + 0.5) / h  # row 0 is the top
+    column = np.round(np.asarray(cmap(t))[:, :3] * 255).astype(np.uint8)
+    fig.figimage(np.repeat(column[:, None, :], w, axis=1), xo=x0, yo=y0, origin="upper")
+    tip = 0.6 * w
+    if extend in ("min", "both"):
+        fig.add_artist(Polygon([(x0, y0), (x0 + w, y0), (x0 + w / 2, y0 - tip)], facecolor=cmap(0.0), edgecolor="black",
+                               linewidth=0.5, transform=px))
+    if extend in ("max", "both"):
+        fig.add_artist(Polygon([(x0, y0 + h), (x0 + w, y0 + h), (x0 + w / 2, y0 + h + tip)], facecolor=cmap(1.0),
+                               edgecolor="black", linewidth=0.5, transform=px))
+    fig.add_artist(Rectangle((x0, y0), w, h, fill=False, edgecolor="black", linewidth=0.5, transform=px))
     unit = "°" if kind == "sight_angle" else " m"
-    ticks, labels = [], []
     for name in ("minimum", "medium", "high"):
         v = float(thresholds[name])
         if norm.vmin <= v <= norm.vmax:
-            cax.axhline(v, color="white", linewidth=2.4)
-            cax.axhline(v, color="black", linewidth=1.0)
-            ticks.append(v)
-            labels.append(f"{name} {_fmt_num(v)}{unit}")
-    cb.set_ticks(ticks, labels=labels, minor=False)
-    cax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
-    cax.tick_params(labelsize=6.5)
-    cax.set_title(label, fontsize=6.5, loc="left", pad=8 if extend in ("max", "both") else 4)
+            y = y0 + float(norm(v)) * h
+            fig.add_artist(Line2D([x0, x0 + w + 3], [y, y], color="white", linewidth=2.4, transform=px))
+            fig.add_artist(Line2D([x0, x0 + w + 3], [y, y], color="black", linewidth=1.0, transform=px))
+            fig.text(x0 + w + 6, y, f"{name} {_fmt_num(v)}{unit}", ha="left", va="center", fontsize=6.5, transform=px)
+    lo_lab, hi_lab = (f"{_fmt_num(norm.vmin)}°", f"{_fmt_num(round(norm.vmax, 1))}°") if kind == "sight_angle" else \
+        (f"≤ {_fmt_num(norm.vmin)} m", f"≥ {_fmt_num(round(norm.vmax))} m, unobstructed")
+    fig.text(x0 + w + 6, y0 - (tip if extend in ("min", "both") else 0), lo_lab, ha="left", va="center", fontsize=6,
+             color="#404040", transform=px)
+    fig.text(x0 + w + 6, y0 + h + (tip if extend in ("max", "both") else 0), hi_lab, ha="left", va="center", fontsize=6,
+             color="#404040", transform=px)
+    fig.text(x0, y0 + h + tip + 14, label, ha="left", va="bottom", fontsize=6.5, transform=px)
 
 
-def _north_arrow(ax, north: np.ndarray):
-    """An arrow from the centre of a small axes towards ``north`` (a unit vector of the picture)."""
-    ax.set_axis_off()
-    ax.set_aspect("equal")
-    ax.set_xlim(-1.3, 1.3)
-    ax.set_ylim(-1.3, 1.3)
+def _north_arrow(fig, centre: tuple[float, float], north: np.ndarray, length: float = 44.0):
+    """An arrow through ``centre`` [px] pointing along ``north`` (a vector of the picture), marked N."""
+    from matplotlib.patches import FancyArrowPatch
+    from matplotlib.transforms import IdentityTransform
+
+    px = IdentityTransform()
     n = north / max(float(np.hypot(*north)), 1e-12)
-    ax.annotate("", xy=(0.75 * n[0], 0.75 * n[1]), xytext=(-0.75 * n[0], -0.75 * n[1]),
-                arrowprops={"arrowstyle": "-|>", "color": "black", "linewidth": 1.2, "mutation_scale": 10})
-    ax.text(1.1 * n[0], 1.1 * n[1], "N", ha="center", va="center", fontsize=8, fontweight="bold")
+    c = np.asarray(centre, dtype=float)
+    fig.add_artist(FancyArrowPatch(tuple(c - 0.5 * length * n), tuple(c + 0.5 * length * n), arrowstyle="-|>", color="black",
+                                   linewidth=1.2, mutation_scale=10, transform=px))
+    tip = c + (0.5 * length + 9) * n
+    fig.text(tip[0], tip[1], "N", ha="center", va="center", fontsize=8, fontweight="bold", transform=px)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -598,24 +646,39 @@ def fisheye_directions(n: int, view_azimuth_deg: float, true_north_deg: float = 
     v = math.radians(view_azimuth_deg + true_north_deg)
     f = np.array([math.sin(v), math.cos(v), 0.0])
     r = np.array([math.cos(v), -math.sin(v), 0.0])
-    dirs = fwd[..., None] * f + right[..., None] * r + up[..., None] * np.array([0.0, 0.0, 1.0])
-    dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
+    # unit by construction: cos^2 + sin^2 (x^2 + y^2) / rho^2 = 1
+    dirs = np.stack([fwd * f[0] + right * r[0], fwd * f[1] + right * r[1], up], axis=-1)
     return dirs, rho <= 1.0
 
 
 def fisheye_pixel(x, y) -> tuple[np.ndarray, np.ndarray]:
     """Row and column of the PNG pixel of :func:`fisheye` that holds fisheye point (x, y).
 
-    For tests and image maps: the fisheye axes lie at :data:`FISHEYE_AXES` of a
-    :data:`FISHEYE_SIZE_IN` figure at :data:`DPI`, with limits +-:data:`FISHEYE_LIM`.
+    For tests and image maps: the circle is centred on :data:`FISHEYE_CENTRE_PX` with radius
+    :data:`FISHEYE_RADIUS_PX`, and the class raster is placed on the PNG's pixel grid without
+    resampling filters (nearest pixel).
+
+    Returns
+    -------
+    row, col : int arrays, row 0 at the top of the image
     """
-    w_px, h_px = FISHEYE_SIZE_IN[0] * DPI, FISHEYE_SIZE_IN[1] * DPI
-    left, bottom, width, height = FISHEYE_AXES
-    u = (np.asarray(x, dtype=float) + FISHEYE_LIM) / (2 * FISHEYE_LIM)
-    v = (np.asarray(y, dtype=float) + FISHEYE_LIM) / (2 * FISHEYE_LIM)
-    col = (left + u * width) * w_px
-    row = h_px - (bottom + v * height) * h_px
+    c0, r0 = FISHEYE_CENTRE_PX
+    col = c0 + np.asarray(x, dtype=float) * FISHEYE_RADIUS_PX
+    row = r0 - np.asarray(y, dtype=float) * FISHEYE_RADIUS_PX
     return np.floor(row).astype(int), np.floor(col).astype(int)
+
+
+def _fisheye_raster(image: np.ndarray) -> np.ndarray:
+    """The class raster as (2R, 2R, 3) uint8 pixels of the PNG, nearest source pixel, white outside the circle."""
+    n, m = image.shape[0], 2 * FISHEYE_RADIUS_PX
+    src = np.minimum(((np.arange(m) + 0.5) * n / m).astype(int), n - 1)
+    classes = np.clip(image[np.ix_(src, src)].astype(int), OUTSIDE, CLASS_GROUND)
+    x, y = fisheye_pixel_xy(m)
+    classes[np.hypot(x, y) > 1.0] = OUTSIDE
+    lut = np.zeros((5, 3), dtype=np.uint8)
+    for k, colour in CLASS_COLOURS.items():
+        lut[k + 1] = np.round(_rgb([colour])[0] * 255).astype(np.uint8)
+    return lut[classes + 1]
 
 
 _COMPASS = (("N", 0), ("NE", 45), ("E", 90), ("SE", 135), ("S", 180), ("SW", 225), ("W", 270), ("NW", 315))
@@ -665,55 +728,51 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
     img = np.asarray(image)
     if img.ndim != 2 or img.shape[0] != img.shape[1]:
         raise ValueError(f"image must have shape (N, N), not {img.shape}")
-    codes = (OUTSIDE, BLOCKED, CLASS_SKY, CLASS_LANDSCAPE, CLASS_GROUND)
-    lut = np.zeros((5, 3), dtype=np.uint8)
-    for k in codes:
-        lut[k + 1] = np.round(_rgb([CLASS_COLOURS[k]])[0] * 255).astype(np.uint8)
-    rgb = lut[np.clip(img.astype(int), -1, 3) + 1]
+    raster = _fisheye_raster(img)
+    R = float(FISHEYE_RADIUS_PX)
+    height_px = FISHEYE_SIZE_IN[1] * DPI
+    cx, cy = float(FISHEYE_CENTRE_PX[0]), height_px - FISHEYE_CENTRE_PX[1]  # display coordinates, y up
+    pt = DPI / 72.0  # [px/pt]
+    boxed = {"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.7}
 
     def draw(fig):
         from matplotlib.lines import Line2D
-        from matplotlib.patches import Circle, Patch
+        from matplotlib.patches import Circle
+        from matplotlib.transforms import Affine2D, IdentityTransform
 
-        ax = fig.add_axes(FISHEYE_AXES)
-        ax.set_axis_off()
-        ax.set_xlim(-FISHEYE_LIM, FISHEYE_LIM)
-        ax.set_ylim(-FISHEYE_LIM, FISHEYE_LIM)
-        ax.set_aspect("equal")
-        ax.imshow(rgb, extent=(-1, 1, -1, 1), origin="upper", interpolation="nearest", resample=False)
-        rim = Circle((0, 0), 1.0, transform=ax.transData)
-        ax.images[0].set_clip_path(rim)
-        ax.add_patch(Circle((0, 0), 1.0, fill=False, edgecolor="black", linewidth=1.0))
-        ax.plot([-1, 1], [0, 0], color="black", linewidth=0.5, alpha=0.6)  # horizon
-        # minimum sun altitude: altitude = const within the field
+        px = IdentityTransform()
+        T = Affine2D().scale(R).translate(cx, cy)
+        line = lambda x, y, **kw: fig.add_artist(Line2D(x, y, transform=T, **kw))
+        text = lambda x, y, s, dy=0.0, **kw: fig.text(cx + R * x, cy + R * y + dy * pt, s, transform=px, **kw)
+        fig.figimage(raster, xo=int(cx - R), yo=int(cy - R), origin="upper")
+        fig.add_artist(Circle((0, 0), 1.0, fill=False, edgecolor="black", linewidth=1.0, transform=T))
+        line([-1, 1], [0, 0], color="black", linewidth=0.5, alpha=0.6)  # horizon
+        # minimum sun altitude: the curve altitude = const within the field
         az = view_azimuth_deg + np.linspace(-90.0, 90.0, 181)
         mx, my = fisheye_xy(az, np.full_like(az, min_altitude_deg), view_azimuth_deg)
-        ax.plot(mx, my, color="black", linewidth=1.8)
-        ax.plot(mx, my, color="white", linewidth=0.9, linestyle=(0, (3, 2)))
+        line(mx, my, color="black", linewidth=1.8)
+        line(mx, my, color="white", linewidth=0.9, linestyle=(0, (3, 2)))
         marks: dict[str, list] = {}
         for p in sun_paths:
             a = np.asarray(p["azimuth_deg"], dtype=float).reshape(-1)
             h = np.asarray(p["altitude_deg"], dtype=float).reshape(-1)
             vis = np.asarray(p["visible"], dtype=bool).reshape(-1)
             x, y = fisheye_xy(a, h, view_azimuth_deg)
-            off = np.degrees(np.arccos(np.clip(np.cos(np.radians(h)) * np.cos(np.radians(a - view_azimuth_deg)), -1, 1)))
-            ok = (h >= 0) & (off <= 90.0)
+            ok = (h >= 0) & (np.hypot(x, y) <= 1.0)
             if not ok.any():
                 continue
             # a segment i..i+1 is drawn when both ends are in the field; seen where both are seen
             seg_ok = ok[:-1] & ok[1:]
             seg_vis = seg_ok & vis[:-1] & vis[1:]
             for seen, lw, casing, ls in ((False, 0.9, 1.8, (0, (3, 2))), (True, 2.2, 3.6, "-")):
-                runs = [(s, e + 1) for s, e in _runs(seg_vis if seen else seg_ok & ~seg_vis)]
-                if not runs:
-                    continue
-                px, py = _nan_joined(x, y, runs)
-                ax.plot(px, py, color="black", linewidth=casing, linestyle=ls, solid_capstyle="butt")
-                ax.plot(px, py, color=SUN_PATH_COLOUR, linewidth=lw, linestyle=ls, solid_capstyle="butt")
+                runs = [(s0, e + 1) for s0, e in _runs(seg_vis if seen else seg_ok & ~seg_vis)]
+                if runs:
+                    jx, jy = _nan_joined(x, y, runs)
+                    line(jx, jy, color="black", linewidth=casing, linestyle=ls, solid_capstyle="butt")
+                    line(jx, jy, color=SUN_PATH_COLOUR, linewidth=lw, linestyle=ls, solid_capstyle="butt")
             top = int(np.argmax(np.where(ok, y, -np.inf)))
-            ax.annotate(str(p.get("label", "")), (x[top], y[top]), xytext=(0, 5), textcoords="offset points", ha="center",
-                        va="bottom", fontsize=6.5, bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none",
-                                                          "alpha": 0.75})
+            text(x[top], y[top], str(p.get("label", "")), dy=4, ha="center", va="bottom", fontsize=6.5,
+                 bbox=boxed | {"boxstyle": "round,pad=0.15"})
             for ma, mh, lab in p.get("hour_marks", ()):
                 hx, hy = fisheye_xy(ma, mh, view_azimuth_deg)
                 if mh >= 0 and float(np.hypot(hx, hy)) <= 1.0:
@@ -722,35 +781,34 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
         for lab, xy in marks.items():
             xy_a = np.array(xy)
             if len(xy_a) > 1:
-                ax.plot(xy_a[:, 0], xy_a[:, 1], color="black", linewidth=0.5)
-            ax.plot(xy_a[:, 0], xy_a[:, 1], linestyle="none", marker="o", markersize=2.8, color="black", markeredgecolor="white",
-                    markeredgewidth=0.5)
+                line(xy_a[:, 0], xy_a[:, 1], color="black", linewidth=0.5)
+            line(xy_a[:, 0], xy_a[:, 1], linestyle="none", marker="o", markersize=2.8, color="black", markeredgecolor="white",
+                 markeredgewidth=0.5)
             low = xy_a[int(np.argmin(xy_a[:, 1]))]
-            ax.annotate(lab, (low[0], low[1]), xytext=(0, -4), textcoords="offset points", ha="center", va="top", fontsize=5.5,
-                        bbox={"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.7})
-        # compass points on the horizon (and at the rim where they fall on it)
+            text(low[0], low[1], lab, dy=-4, ha="center", va="top", fontsize=5.5, bbox=boxed)
+        # compass points on the horizon (at the rim where they fall on it)
         for name, c in _COMPASS:
             d = (c - view_azimuth_deg + 180.0) % 360.0 - 180.0
             if abs(d) <= 90.0:
                 x = d / 90.0
-                ax.plot([x, x], [-0.03, 0.03], color="black", linewidth=0.8)
+                line([x, x], [-0.03, 0.03], color="black", linewidth=0.8)
                 if abs(d) >= 85.0:
-                    ax.text(math.copysign(1.06, d), 0.0, name, ha="center", va="center", fontsize=7, fontweight="bold")
+                    text(math.copysign(1.06, d), 0.0, name, ha="center", va="center", fontsize=7, fontweight="bold")
                 else:
-                    ax.text(x, -0.05, name, ha="center", va="top", fontsize=7, fontweight="bold",
-                            bbox={"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.7})
-        ax.text(0.0, 1.03, "zenith", ha="center", va="bottom", fontsize=6.5)
+                    text(x, -0.05, name, ha="center", va="top", fontsize=7, fontweight="bold", bbox=boxed)
+        text(0.0, 1.0, "zenith", dy=3, ha="center", va="bottom", fontsize=6.5)
         if title:
-            fig.text(0.02, 0.985, title, ha="left", va="top", fontsize=9)
-        handles = [Patch(facecolor=CLASS_COLOURS[k], edgecolor="black", linewidth=0.4, label=CLASS_NAMES[k])
-                   for k in (CLASS_SKY, CLASS_LANDSCAPE, CLASS_GROUND, BLOCKED)]
-        handles += [Line2D([], [], color=SUN_PATH_COLOUR, linewidth=2.2, label="sun path, seen"),
-                    Line2D([], [], color=SUN_PATH_COLOUR, linewidth=0.9, linestyle=(0, (3, 2)), label="sun path, hidden"),
-                    Line2D([], [], color="black", linewidth=1.0, linestyle=(0, (3, 2)),
-                           label=f"sun altitude {_fmt_num(min_altitude_deg)}°")]
-        fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(FISHEYE_AXES[0] + FISHEYE_AXES[2] + 0.01, 0.9),
-                   fontsize=6.5, handlelength=1.6, title=f"looking {_compass_name(view_azimuth_deg)} "
-                   f"({_fmt_num(round(view_azimuth_deg % 360.0, 1))}°)", title_fontsize=7, alignment="left")
+            fig.text(12, height_px - 6, title, ha="left", va="top", fontsize=9, transform=px)
+        entries = [("patch", CLASS_COLOURS[k], CLASS_NAMES[k]) for k in (CLASS_SKY, CLASS_LANDSCAPE, CLASS_GROUND, BLOCKED)]
+        entries += [
+            ("line", [{"color": "black", "linewidth": 3.6}, {"color": SUN_PATH_COLOUR, "linewidth": 2.2}], "sun path, seen"),
+            ("line", [{"color": "black", "linewidth": 1.8, "linestyle": (0, (3, 2))},
+                      {"color": SUN_PATH_COLOUR, "linewidth": 0.9, "linestyle": (0, (3, 2))}], "sun path, hidden"),
+            ("line", [{"color": "black", "linewidth": 1.8}, {"color": "white", "linewidth": 0.9, "linestyle": (0, (3, 2))}],
+             f"sun altitude {_fmt_num(min_altitude_deg)}°"),
+        ]
+        _legend(fig, cx + R + 30, cy + R, entries,
+                title=f"looking {_compass_name(view_azimuth_deg)} ({_fmt_num(round(view_azimuth_deg % 360.0, 1))}°)")
 
     return _render(draw, FISHEYE_SIZE_IN)
 
@@ -793,20 +851,22 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
     k = int(assessed_index)
 
     def draw(fig):
+        from matplotlib.collections import PolyCollection
+        from matplotlib.patches import Rectangle
         from matplotlib.ticker import FixedLocator, FuncFormatter, MultipleLocator
 
         ax = fig.add_axes((0.1, 0.12, 0.72, 0.72))
         x = np.arange(d)
-        colours = ["#b0b0b0"] * d
+        top = np.nan_to_num(hrs)
+        others = np.flatnonzero(x != k)
+        # one collection for the bars (one Rectangle each costs more than the drawing)
+        ax.add_collection(PolyCollection([[(i - 0.4, 0), (i + 0.4, 0), (i + 0.4, top[i]), (i - 0.4, top[i])] for i in others],
+                                         facecolors=BAR_COLOUR, edgecolors="none"))
         if 0 <= k < d:
-            colours[k] = "#08306b"
-        bars = ax.bar(x, np.nan_to_num(hrs), width=0.8, color=colours, edgecolor="none")
-        if 0 <= k < d:
-            bars[k].set_hatch("////")
-            bars[k].set_edgecolor("white")
-            bars[k].set_linewidth(0)
+            ax.add_patch(Rectangle((k - 0.4, 0), 0.8, top[k], facecolor=ASSESSED_COLOUR, edgecolor="white", linewidth=0, hatch="////"))
             ax.annotate(f"assessed {_date_label(dates[k])}\n{fmt_duration(hrs[k])}", (k, float(np.nan_to_num(hrs[k]))),
-                        xytext=(0, 4), textcoords="offset points", ha="center", va="bottom", fontsize=6.5)
+                        xytext=(0, 4), textcoords="offset points", ha="center", va="bottom", fontsize=6.5,
+                        bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
         ymax = max([float(np.nanmax(hrs)) if np.isfinite(hrs).any() else 0.0] + [float(v) for v in thresholds.values()])
         if per_window:
             for i, (name, v) in enumerate(per_window.items()):
@@ -819,7 +879,7 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
             v = float(thresholds[name])
             ax.axhline(v, color="black", linewidth=0.9, linestyle=ls)
             ax.text(1.01, v, f"{name}\n{fmt_duration(v)}", transform=ax.get_yaxis_transform(), ha="left", va="center", fontsize=6.5)
-        ax.set_xlim(-0.7, d - 0.3)
+        ax.set_xlim(-0.7, max(d, 1) - 0.3)
         ax.set_ylim(0, 1.18 * ymax if ymax > 0 else 1.0)
         step = 0.5 if ymax <= 3 else (1.0 if ymax <= 8 else 2.0)
         ax.yaxis.set_major_locator(MultipleLocator(step))
