@@ -338,8 +338,10 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     win = [np.asarray(w, dtype=float).reshape(2, 2) for w in (windows or ())]
     angle = plan_rotation(floor_r, win)
     r = _rot(angle)
-    centre = 0.5 * (floor_r.min(axis=0) + floor_r.max(axis=0))
-    tf = lambda p: (np.asarray(p, dtype=float).reshape(-1, 2) - centre) @ r.T
+    centre = floor_r.mean(axis=0)  # a point of the room, whatever the model's axes
+    # rounded to a nanometre: the same room in another model frame then gives the same coordinates,
+    # so Agg snaps the same edges to pixels (an edge 1e-15 off the horizontal is not snapped)
+    tf = lambda p: np.round((np.asarray(p, dtype=float).reshape(-1, 2) - centre) @ r.T, 9)
     floor_t = tf(floor_r)
     util_t = None if utilised is None else tf(utilised)
     win_t = [tf(w) for w in win]
@@ -384,7 +386,8 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
                                       markerfacecolor="none", markeredgecolor=colour, markeredgewidth=mew, transform=T))
         # scale bar under the plan: two halves, black and white
         sb = _scale_bar_m(float(hi[0] - lo[0]))
-        x0, y0, L = ox + (lo[0] - mid[0]) * scale, oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0, sb * scale
+        # on whole pixels, so that rounding in the plan's extent does not shade it differently
+        x0, y0, L = round(ox + (lo[0] - mid[0]) * scale), round(oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0), round(sb * scale)
         fig.add_artist(Rectangle((x0, y0), L / 2, 5, facecolor="black", edgecolor="black", linewidth=0.6, transform=px))
         fig.add_artist(Rectangle((x0 + L / 2, y0), L / 2, 5, facecolor="white", edgecolor="black", linewidth=0.6, transform=px))
         fig.text(x0 + L + 6, y0 + 2.5, f"{_fmt_num(sb)} m", va="center", ha="left", fontsize=7, transform=px)
