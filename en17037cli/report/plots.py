@@ -90,12 +90,12 @@ _RC = {
 # ----------------------------------------------------------------------------------------------
 
 def fmt_duration(hours: float) -> str:
-    """A duration as reports write it, rounded to the minute: ``"5 h 52 min"``, ``"18 min"``, ``"0 min"``.
+    """A duration as reports write it, rounded to the minute: ``"5 h 52 min"``, ``"18 min"``, ``"0 min"``, ``"4 h"``.
 
     Parameters
     ----------
     hours : float [h]
-        NaN gives ``"n/a"``; a negative duration keeps its sign.
+        NaN or infinite gives ``"n/a"``; a negative duration keeps its sign.
 
     Returns
     -------
@@ -154,6 +154,18 @@ def lightness(colours) -> np.ndarray:
     """CIE 1976 lightness L* [0, 100] of sRGB colours, from :func:`relative_luminance`.
 
     Equal steps of L* look like equal steps of grey, which Y (linear in light) does not.
+
+    Parameters
+    ----------
+    colours : sequence of hex strings or (k, 3|4) float in [0, 1]
+
+    Returns
+    -------
+    (k,) float [0, 100]
+
+    References
+    ----------
+    CIE 15:2004 Colorimetry, 8.2.1 (L* = 116 (Y/Yn)^(1/3) - 16, linear below (6/29)^3).
     """
     y = relative_luminance(colours)
     return np.where(y > 216 / 24389, 116 * np.cbrt(y) - 16, y * 24389 / 27)
@@ -243,19 +255,20 @@ def plan_rotation(floor, windows=()) -> float:
     return _canonical_deg(best)
 
 
-def _nearest_neighbour(points: np.ndarray, chunk: int = 1024) -> tuple[np.ndarray, np.ndarray]:
-    """Distance to the nearest other point [m] and the offset to it, in chunks of rows."""
+def _nearest_neighbour(points: np.ndarray, sample: int = 256) -> tuple[np.ndarray, np.ndarray]:
+    """Distance [m] and offset (k, 2) [m] from up to ``sample`` evenly spread points to their nearest other point.
+
+    A sample is enough to read a grid's spacing and direction, and keeps the cost at
+    ``sample`` x n distances for rooms of thousands of viewpoints.
+    """
     n = len(points)
-    dist = np.full(n, np.inf)
-    off = np.zeros((n, 2))
-    for s in range(0, n, chunk):
-        d = points[None, :, :] - points[s:s + chunk, None, :]
-        d2 = np.einsum("ijk,ijk->ij", d, d)
-        d2[np.arange(d2.shape[0]), np.arange(s, s + d2.shape[0])] = np.inf
-        j = np.argmin(d2, axis=1)
-        dist[s:s + chunk] = np.sqrt(d2[np.arange(d2.shape[0]), j])
-        off[s:s + chunk] = d[np.arange(d2.shape[0]), j]
-    return dist, off
+    idx = np.unique(np.linspace(0, n - 1, min(n, sample)).round().astype(int))
+    d = points[None, :, :] - points[idx, None, :]
+    d2 = np.einsum("ijk,ijk->ij", d, d)
+    d2[np.arange(len(idx)), idx] = np.inf
+    j = np.argmin(d2, axis=1)
+    rows = np.arange(len(idx))
+    return np.sqrt(d2[rows, j]), d[rows, j]
 
 
 def _cell_squares(xy: np.ndarray, spacing_m: float | None) -> np.ndarray:
@@ -488,15 +501,16 @@ def _plan_colours(kind: str, vals: np.ndarray, thresholds: dict | None):
     ok = np.isfinite(vals)
     code = np.where(ok, vals, -1).astype(int)
     if kind == "level":
-        table, order = _rgb(LEVEL_COLOURS), range(4)
+        table = _rgb(LEVEL_COLOURS)
         ok &= (code >= 0) & (code <= 3)
         idx = code
-        legend = [(LEVEL_COLOURS[i], LEVEL_NAMES[i]) for i in reversed(order)]
+        legend = [(LEVEL_COLOURS[i], LEVEL_NAMES[i]) for i in reversed(range(4))]
     else:
         table = _rgb(LAYER_COLOURS)
-        pos = {c: i for i, c in enumerate(LAYER_ORDER)}
+        position = np.empty(8, dtype=int)
+        position[list(LAYER_ORDER)] = np.arange(8)  # bitmask -> place in the luminance order
         ok &= (code >= 0) & (code <= 7)
-        idx = np.array([pos.get(int(c), 0) for c in code], dtype=int)
+        idx = position[np.clip(code, 0, 7)]
         legend = [(LAYER_COLOURS[i], _layer_legend(LAYER_ORDER[i])) for i in reversed(range(8))]
     faces[ok, :3] = table[np.clip(idx[ok], 0, len(table) - 1)]
     faces[ok, 3] = 1.0
@@ -504,7 +518,12 @@ def _plan_colours(kind: str, vals: np.ndarray, thresholds: dict | None):
 
 
 def layer_label(code: int) -> str:
-    """Names of the layers in a bitmask, ``"sky + landscape"``; ``"none"`` for 0."""
+    """Names of the layers in a bitmask, ``"sky + landscape"``; ``"none"`` for 0.
+
+    Parameters
+    ----------
+    code : int, bitmask of :data:`SKY`, :data:`LANDSCAPE`, :data:`GROUND`
+    """
     names = [n for bit, n in ((SKY, "sky"), (LANDSCAPE, "landscape"), (GROUND, "ground")) if int(code) & bit]
     return " + ".join(names) if names else "none"
 

@@ -505,3 +505,10 @@ def test_module_imports_without_matplotlib():
             "print(plots.fmt_duration(1.5), plots.lightness(plots.LEVEL_COLOURS).round().tolist())")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "1 h 30 min [15.0, 42.0, 67.0, 91.0]"
+
+
+@pytest.mark.parametrize("n", [0, 1])
+def test_plan_map_of_no_or_one_viewpoint(n):
+    png = P.plan_map(POINTS[:n], np.full(n, 30.0), kind="sight_angle", thresholds=THRESH_ANGLE, floor=FLOOR, utilised=UTILISED,
+                     windows=WINDOWS, true_north_deg=0.0)
+    assert decode(png).shape == (400, 500, 3)
