@@ -72,7 +72,7 @@ DISTANCE_VMIN_M = 1.0
 
 _KINDS = ("sight_angle", "distance", "layers", "level")
 _MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
-_RC = {
+_RC: dict = {
     "font.family": "DejaVu Sans",
     "font.size": 8,
     "svg.hashsalt": "en17037cli",
@@ -623,7 +623,7 @@ def fisheye_xy(azimuth_deg, altitude_deg, view_azimuth_deg: float) -> tuple[np.n
     side = np.hypot(right, up)
     rho = np.arctan2(side, fwd) / (0.5 * np.pi)  # angle off axis / 90 deg
     with np.errstate(invalid="ignore", divide="ignore"):
-        x = np.where(side > 0, rho * right / side, 0.0)
+        x = np.where(side > 0, rho * right / side, np.where(fwd >= 0, 0.0, rho))  # straight behind: off the field
         y = np.where(side > 0, rho * up / side, 0.0)
     return x, y
 
@@ -715,10 +715,11 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 def _nan_joined(xs: np.ndarray, ys: np.ndarray, runs: list[tuple[int, int]]) -> tuple[np.ndarray, np.ndarray]:
     """One polyline per run, joined with NaN breaks (one Line2D for many pieces)."""
-    px, py = [], []
+    px: list[np.ndarray] = []
+    py: list[np.ndarray] = []
     for a, b in runs:
-        px += [xs[a:b], [np.nan]]
-        py += [ys[a:b], [np.nan]]
+        px += [xs[a:b], np.array([np.nan])]
+        py += [ys[a:b], np.array([np.nan])]
     return (np.concatenate(px), np.concatenate(py)) if px else (np.zeros(0), np.zeros(0))
 
 
@@ -793,8 +794,9 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
                     line(jx, jy, color="black", linewidth=casing, linestyle=ls, solid_capstyle="butt")
                     line(jx, jy, color=SUN_PATH_COLOUR, linewidth=lw, linestyle=ls, solid_capstyle="butt")
             top = int(np.argmax(np.where(ok, y, -np.inf)))
-            text(x[top], y[top], str(p.get("label", "")), dy=4, ha="center", va="bottom", fontsize=6.5,
-                 bbox=boxed | {"boxstyle": "round,pad=0.15"})
+            if p.get("label"):
+                    text(x[top], y[top], str(p["label"]), dy=4, ha="center", va="bottom", fontsize=6.5,
+                     bbox=boxed | {"boxstyle": "round,pad=0.15"})
             for ma, mh, lab in p.get("hour_marks", ()):
                 hx, hy = fisheye_xy(ma, mh, view_azimuth_deg)
                 if mh >= 0 and float(np.hypot(hx, hy)) <= 1.0:

@@ -164,6 +164,7 @@ def test_fisheye_xy_landmarks(view):
     assert np.allclose(xy(view + 33.0, 90.0), [0.0, 1.0], atol=1e-12)  # zenith, whatever the azimuth
     assert np.allclose(xy(view, 45.0), [0.0, 0.5], atol=1e-12)  # equidistant: 45 deg off axis at radius 0.5
     assert np.allclose(xy(view - 45.0, 0.0), [-0.5, 0.0], atol=1e-12)
+    assert np.hypot(*xy(view + 180.0, 0.0)) == pytest.approx(2.0)  # straight behind: outside the field, not at the centre
     # 45 deg off axis in an oblique plane: cos 45 = cos h cos(dA), radius 0.5 along (sin dA cos h, sin h)
     h = 30.0
     da = math.degrees(math.acos(math.cos(math.radians(45.0)) / math.cos(math.radians(h))))
