@@ -187,6 +187,10 @@ def _summary(report: dict, out: Path):
                 table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
     console = _stderr_console()
     console.print(table)
+    s = report["summary"]
+    if s["dwellings_sunlight_required"] > 1:
+        console.print(f"{s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass sunlight; "
+                      f"{s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass view")
     console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.md, report.json, view_points.csv, sunlight_days.csv)")
 
 
@@ -237,6 +241,10 @@ def validate(project_file: Path, overrides, max_points, objects):
     for w in scene.windows:
         if w.name not in bounding:
             click.echo(f"note: window '{w.name}' bounds no room of the project")
+    if project.dwellings is not None:
+        for d in pf.dwellings:
+            main = "" if d.main_rooms == d.rooms else f" (main: {', '.join(d.main_rooms)})"
+            click.echo(f"dwelling '{d.name}' ({d.source}): {', '.join(d.rooms)}{main}")
     for note in pf.warnings:
         click.echo(f"warning: {note}")
     for note in scene.notes:

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 from en17037cli import standard
 from en17037cli.criteria import CRITERIA, Context, Criterion, Unassessed
+from en17037cli.dwellings import Dwelling
 from en17037cli.errors import NotAssessable
 from en17037cli.preflight import MAX_POINTS, preflight
 from en17037cli.project.settings import Project
@@ -76,25 +77,58 @@ class RunResult:
     rays_traced: int
     context: Context
     warnings: list[str] = field(default_factory=list)
+    dwellings: list[DwellingResult] = field(default_factory=list)
     timer: Timer = field(default_factory=Timer)
 
 
-def overall_status(rooms: list[RoomResult], requirements) -> str:
-    """``pass`` when every required level is met.
+@dataclass
+class DwellingResult:
+    """The sunlight rule of one dwelling (EN 17037 clause 5.3, per ``requirements.sunlight_rooms``).
 
-    View: every room. Sunlight: every room or at least one, by ``requirements.sunlight_rooms``
-    (:func:`~en17037cli.standard.sunlight_rooms_pass`). A required criterion that did not assess a
-    room (not assessed, not assessable) does not meet its requirement.
+    status : ``pass``, ``fail``, or None where none of its rooms requires sunlight
+    room : the main room that satisfies the rule (the sunniest that passes), else the best main
+        room (most hours on its assessed day) and ``shortfall_h`` [h] below its required level
     """
-    ok = True
-    sun_ok = []
-    for r in rooms:
-        view, sun = r.status("view"), r.status("sunlight")
-        if view is not None:
-            ok &= view == "pass"
-        if sun is not None:
-            sun_ok.append(sun == "pass")
-    ok &= standard.sunlight_rooms_pass(sun_ok, requirements.sunlight_rooms)
+
+    dwelling: Dwelling
+    status: str | None
+    room: str | None
+    hours: float | None
+    required: str | None
+    shortfall_h: float | None
+
+
+def assess_dwelling(d: Dwelling, rooms: dict[str, RoomResult], rule: str, thresholds) -> DwellingResult:
+    """Whether a dwelling meets the sunlight rule: ``any`` of its main rooms, or ``all`` its rooms."""
+    judged = list(d.main_rooms) if rule == "any" else list(d.rooms)
+    statuses = {n: rooms[n].status("sunlight") for n in judged}
+    required = [n for n in judged if statuses[n] is not None]
+    if not required:
+        return DwellingResult(d, None, None, None, None, None)
+    ok = standard.sunlight_rooms_pass([statuses[n] == "pass" for n in required], rule)
+    hours = {n: float(r.hours[r.assessed_index]) for n in required if (r := rooms[n].assessed("sunlight")) is not None}
+    passing = [n for n in required if statuses[n] == "pass"]
+    if rule == "any":
+        pool = passing if ok else list(hours)
+        room = max(pool, key=lambda n: hours.get(n, -1.0)) if pool else required[0]
+    else:  # 'all': the room that limits the dwelling
+        failing = [n for n in required if statuses[n] != "pass"]
+        pool = failing or list(hours)
+        room = min(pool, key=lambda n: hours.get(n, -1.0)) if pool else required[0]
+    need = rooms[room].required("sunlight")
+    h = hours.get(room)
+    short = None
+    if not ok and h is not None and need != "none":
+        short = max(getattr(thresholds.sunlight_hours, need) - h, 0.0)
+    return DwellingResult(d, "pass" if ok else "fail", room, h, need, short)
+
+
+def overall_status(rooms: list[RoomResult], dwellings: list[DwellingResult]) -> str:
+    """``pass`` when every required level is met: view in every room, sunlight in every dwelling.
+    A required criterion that did not assess a room (not assessed, not assessable) does not meet
+    its requirement."""
+    ok = all(r.status("view") in (None, "pass") for r in rooms)
+    ok &= all(d.status in (None, "pass") for d in dwellings)
     return "pass" if ok else "fail"
 
 
@@ -161,6 +195,8 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
             results[c.name] = {room.name: _assess(c, ctx, room, plans[room.name], advance) for room in scene.rooms}
             timer.stage(c.name)
     rooms = [RoomResult(room, {name: results.get(name, {}).get(room.name) for name in CRITERIA}) for room in scene.rooms]
-    return RunResult(project=project, scene=scene, rooms=rooms, status=overall_status(rooms, project.requirements),
+    by_name = {r.room.name: r for r in rooms}
+    dwellings = [assess_dwelling(d, by_name, project.requirements.sunlight_rooms, project.thresholds) for d in checks.dwellings]
+    return RunResult(project=project, scene=scene, rooms=rooms, status=overall_status(rooms, dwellings), dwellings=dwellings,
                      checks_run=[c.name for c in chosen], rays_traced=engine.rays_traced, context=ctx,
                      warnings=checks.warnings, timer=timer)

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from en17037cli.criteria import CRITERIA, Context
+from en17037cli.dwellings import group_dwellings
 from en17037cli.errors import InputError
 from en17037cli.geometry import points_in_triangles, window_axes
 from en17037cli.project.settings import Project
@@ -34,9 +35,11 @@ class Preflight:
     warnings : one line each, for the report and ``validate``
     unassessable : criterion -> room name -> reason found without a ray
     points, cells : estimated viewpoints and sampling cells of the run
+    dwellings : the rooms grouped into dwellings (see :mod:`en17037cli.dwellings`)
     """
 
     warnings: list[str] = field(default_factory=list)
+    dwellings: list = field(default_factory=list)
     unassessable: dict[str, dict[str, str]] = field(default_factory=dict)
     points: int = 0
     cells: float = 0.0
@@ -144,6 +147,7 @@ def preflight(ctx: Context, max_points: int = MAX_POINTS) -> Preflight:
     """Everything the run can find before its criteria: see the module docstring."""
     project, scene = ctx.project, ctx.scene
     pf = Preflight(warnings=layer_warnings(scene) + scene.warnings)
+    pf.dwellings = group_dwellings(project.dwellings, scene.rooms, project.path.name)
     pf.points, pf.cells = check_budget(project, scene, max_points)
     for name, c in CRITERIA.items():
         if c.settings(project) is not None:

@@ -73,6 +73,29 @@ SUN_POINT_MIN_ABOVE_SILL_M = 0.3
 #: Clause 5.3: the assessed date lies between 1 February and 21 March (MM-DD).
 SUN_PERIOD = ("02-01", "03-21")
 
+@dataclass(frozen=True)
+class Practice:
+    """A national practice built on EN 17037: the project values it sets, and where it says so."""
+
+    name: str
+    source: str
+    values: dict
+
+
+#: National practices, by the name a project file gives (``practice:``). Each sets project values
+#: (``key.path: value``) that the project file itself does not give; a value it gives wins.
+#: Only practices whose source states the values plainly are here (see the README for the others).
+PRACTICES: dict[str, Practice] = {
+    "en17037": Practice("en17037", "EN 17037:2018+A1:2021, clauses 5.2 and 5.3 and Annex A", {}),
+    "gb-br209-2022": Practice(
+        "gb-br209-2022",
+        "BR 209:2022, Site layout planning for daylight and sunlight (BRE, 3rd edition), section 3.3, which carries "
+        "the UK National Annex of BS EN 17037: at least one main habitable room of each dwelling, preferably the "
+        "living room, should receive at least 1.5 h of sunlight on 21 March",
+        {"sunlight.date": "03-21", "requirements.sunlight": "minimum", "requirements.sunlight_rooms": "any"}),
+}
+
+
 #: The view criteria of Table A.5, each judged over the viewpoints (clause 5.2).
 VIEW_CRITERIA = ("horizontal_sight_angle", "outside_distance", "layers")
 
@@ -206,10 +229,11 @@ def status(level: str, required: str) -> str:
 
 
 def sunlight_rooms_pass(room_passes: Sequence[bool], rule: str) -> bool:
-    """Whether the rooms meet the sunlight requirement together.
+    """Whether the rooms of one dwelling meet the sunlight requirement together.
 
-    EN 17037 clause 5.3 asks sunlight of at least one habitable room of a dwelling (``any``);
-    ``all`` asks it of every room. An empty list passes (no room was assessed for sunlight).
+    EN 17037 clause 5.3 asks sunlight of at least one habitable room of a dwelling (``any``: of
+    its main rooms, those that may satisfy the rule); ``all`` asks it of every room. An empty list
+    passes (no room of the dwelling requires sunlight).
     """
     if not room_passes:
         return True

@@ -10,7 +10,9 @@ import copy
 import csv
 import datetime as dt
 import math
+import re
 import zoneinfo
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -19,10 +21,19 @@ import yaml
 from en17037cli.errors import InputError
 from en17037cli.project.overrides import apply_overrides
 from en17037cli.project.schema import fill_defaults, key_path, validation_errors
-from en17037cli.project.settings import Location, Project, Requirements, RoomSpec, model_settings, sun_settings, view_settings
+from en17037cli.project.settings import (
+    Location,
+    Project,
+    Requirements,
+    RoomSpec,
+    dwellings_spec,
+    model_settings,
+    sun_settings,
+    view_settings,
+)
 from en17037cli.project.yaml12 import parse_yaml
 from en17037cli.schemas import load_schema
-from en17037cli.standard import THRESHOLDS, Thresholds
+from en17037cli.standard import PRACTICES, THRESHOLDS, Thresholds
 
 
 def read_points_csv(path: Path, what: str) -> list[list[float]]:
@@ -134,6 +145,7 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
     """
     path = Path(path)
     document = apply_overrides(read_document(path), overrides or [])
+    practice_set = apply_practice(document)
     bad = non_finite_numbers(document)
     if bad:
         raise InputError("\n".join(f"{path}: {k}: not a finite number; give a number such as 1.5" for k in bad))
@@ -145,7 +157,29 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
     for name, values in THRESHOLDS.items():
         config.setdefault("thresholds", {}).setdefault(name, dict(values))
     _check_consistency(path, config)
-    return _settings(path, config)
+    return replace(_settings(path, config), practice=config["practice"], practice_set=practice_set)
+
+
+def apply_practice(document: dict) -> tuple[tuple[str, object], ...]:
+    """Set the values of the document's national practice (``practice:``) that it does not give
+    itself; return them as (key path, value). Values inside a section the document leaves out
+    (``sunlight.date`` without ``sunlight:``) are not set: a practice never turns a check on."""
+    practice = PRACTICES.get(document.get("practice", "en17037"))
+    if practice is None:
+        return ()  # the schema names the unknown practice
+    done = []
+    for key, value in practice.values.items():
+        *parents, last = key.split(".")
+        node: object = document
+        for part in parents:
+            if not isinstance(node, dict) or (part not in node and part in ("view", "sunlight", "location")):
+                node = None  # a section the document leaves out: the practice does not add it
+                break
+            node = node.setdefault(part, {})
+        if isinstance(node, dict) and last not in node:
+            node[last] = value
+            done.append((key, value))
+    return tuple(done)
 
 
 def _settings(path: Path, config: dict) -> Project:
@@ -175,7 +209,8 @@ def _settings(path: Path, config: dict) -> Project:
         location=None if loc is None else Location(loc["latitude"], loc["longitude"], loc["timezone"], loc.get("elevation_m", 0.0)),
         view=view_settings(config["view"]) if "view" in config else None,
         sunlight=sun_settings(config["sunlight"]) if "sunlight" in config else None,
-        requirements=requirements, thresholds=Thresholds.from_dict(config["thresholds"]), config=config)
+        requirements=requirements, thresholds=Thresholds.from_dict(config["thresholds"]), config=config,
+        dwellings=dwellings_spec(config.get("dwellings")))
 
 
 def _check_consistency(path: Path, config: dict) -> None:
@@ -216,6 +251,15 @@ def _check_consistency(path: Path, config: dict) -> None:
                 raise InputError(f"{path}: sunlight.date: not a date in {year}: {exc}") from None
             if not start <= d <= end:
                 raise InputError(f"{path}: sunlight.date: {sun['date']} is outside the period {sun['period']['start']}..{sun['period']['end']}")
+    dwellings = config.get("dwellings")
+    pattern = dwellings.get("by_pattern") if isinstance(dwellings, dict) else None
+    if pattern is not None:
+        try:
+            rx = re.compile(pattern)
+        except re.error as exc:
+            raise InputError(f"{path}: dwellings.by_pattern: not a regular expression ({exc})") from None
+        if "dwelling" not in rx.groupindex:
+            raise InputError(f"{path}: dwellings.by_pattern: needs a named group (?P<dwelling>...) that names the dwelling")
     if "view" in config:
         st = config["view"]["distance_statistic"]
         if st.startswith("p") and not 0 <= int(st[1:]) <= 100:

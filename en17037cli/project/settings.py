@@ -166,6 +166,28 @@ class SunSettings:
 
 
 @dataclass(frozen=True)
+class DwellingSpec:
+    """One dwelling as the project file lists it: globs on room names (``main_rooms``: the rooms that
+    may satisfy the sunlight rule; None: every room of the dwelling)."""
+
+    name: str
+    rooms: tuple[str, ...]
+    main_rooms: tuple[str, ...] | None = None
+
+
+@dataclass(frozen=True)
+class DwellingsSpec:
+    """How rooms group into dwellings: listed, one per IFC zone (a glob on zone names), or by the
+    named group ``dwelling`` of a regular expression on room names; ``main_rooms`` globs apply to
+    every dwelling found by zones or pattern."""
+
+    listed: tuple[DwellingSpec, ...] = ()
+    ifc_zones: str | None = None
+    by_pattern: str | None = None
+    main_rooms: tuple[str, ...] | None = None
+
+
+@dataclass(frozen=True)
 class Project:
     """A validated project: where it is, what to load, what to check and against what.
 
@@ -182,6 +204,9 @@ class Project:
     requirements: Requirements
     thresholds: Thresholds
     config: dict
+    dwellings: DwellingsSpec | None = None
+    practice: str = "en17037"
+    practice_set: tuple[tuple[str, object], ...] = ()  # the values the practice set (key path, value)
 
     @property
     def directory(self) -> Path:
@@ -203,6 +228,16 @@ def sun_settings(d: dict) -> SunSettings:
 def layer_rule(r: dict) -> LayerRule:
     keys = [(k, r[k]) for k in RULE_KEYS if k in r] + [(f"attr.{k}", v) for k, v in r.get("attributes", {}).items()]
     return LayerRule(r.get("match"), r["layer"], bool(r.get("obstructs_sun", True)), tuple(keys))
+
+
+def dwellings_spec(d) -> DwellingsSpec | None:
+    if d is None:
+        return None
+    if isinstance(d, list):
+        return DwellingsSpec(listed=tuple(DwellingSpec(x["name"], tuple(x["rooms"]),
+                                                       tuple(x["main_rooms"]) if "main_rooms" in x else None) for x in d))
+    main = tuple(d["main_rooms"]) if "main_rooms" in d else None
+    return DwellingsSpec(ifc_zones=d.get("ifc_zones"), by_pattern=d.get("by_pattern"), main_rooms=main)
 
 
 def transform(t: dict) -> Transform:

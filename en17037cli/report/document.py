@@ -10,8 +10,26 @@ from en17037cli import __version__
 from en17037cli.criteria import CRITERIA, Unassessed
 from en17037cli.pipeline import RunResult
 from en17037cli.report.numbers import json_number, json_xyz
+from en17037cli.standard import PRACTICES
 
 SCHEMA_VERSION = "1.0"
+
+
+def dwelling_entry(d, rule: str) -> dict:
+    """A dwelling in report.json: its rooms, and how it meets the sunlight rule."""
+    return {"name": d.dwelling.name, "rooms": list(d.dwelling.rooms), "main_rooms": list(d.dwelling.main_rooms),
+            "grouped_by": d.dwelling.source,
+            "sunlight": {"rule": rule, "status": d.status, "required": d.required, "room": d.room,
+                         "hours": json_number(d.hours, 4), "shortfall_h": json_number(d.shortfall_h, 4)}}
+
+
+def summary(result: RunResult) -> dict:
+    """Counts for people and pipelines: rooms meeting view, dwellings meeting sunlight."""
+    view = [r.status("view") for r in result.rooms if r.status("view") is not None]
+    sun = [d.status for d in result.dwellings if d.status is not None]
+    return {"rooms": len(result.rooms), "rooms_view_required": len(view), "rooms_view_pass": view.count("pass"),
+            "dwellings": len(result.dwellings), "dwellings_sunlight_required": len(sun),
+            "dwellings_sunlight_pass": sun.count("pass")}
 
 
 def build_report(result: RunResult) -> dict:
@@ -55,7 +73,11 @@ def build_report(result: RunResult) -> dict:
         "project": {"name": project.config.get("name"), "file": project.path.name},
         "inputs": {"config": project.config, "model_files": scene.file_hashes, "local_origin_m": json_xyz(scene.origin, 6),
                    "checks_run": list(result.checks_run)},
+        "practice": {"name": project.practice, "source": PRACTICES[project.practice].source,
+                     "set": {k: v for k, v in project.practice_set}},
         "status": result.status,
+        "summary": summary(result),
+        "dwellings": [dwelling_entry(d, project.requirements.sunlight_rooms) for d in result.dwellings],
         "rooms": rooms,
         "warnings": list(result.warnings),
         "notes": notes,

@@ -27,11 +27,37 @@ def _plan_map(points: list) -> list:
             "Plan view, model +Y up; `.` none, `1` minimum, `2` medium, `3` high (only when the points form an axis-aligned grid)."]
 
 
+def dwellings_markdown(report: dict) -> list[str]:
+    """The dwellings section: each dwelling's sunlight rule, the room that meets it or the best
+    one and its shortfall, and the counts."""
+    s, practice = report["summary"], report["practice"]
+    out = []
+    if practice["set"]:
+        out += [f"Practice: {practice['name']} ({practice['source']}); it set " +
+                ", ".join(f"`{k}: {v}`" for k, v in practice["set"].items()) + ".", ""]
+    if s["dwellings_sunlight_required"]:
+        out += [f"Sunlight: {s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass "
+                f"(rule: {report['dwellings'][0]['sunlight']['rule']} room of a dwelling). "
+                f"View: {s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass.", ""]
+    if len(report["dwellings"]) > 1 or report["dwellings"][0]["grouped_by"] != "the whole project (no dwellings: key)":
+        out += ["| dwelling | rooms | sunlight met by | hours | required | result |", "|---|---|---|---|---|---|"]
+        for d in report["dwellings"]:
+            sun = d["sunlight"]
+            if sun["status"] is None:
+                continue
+            who = sun["room"] if sun["status"] == "pass" else f"best: {sun['room']}, {sun['shortfall_h']} h short"
+            out.append(f"| {d['name']} | {', '.join(d['rooms'])} | {who} | {sun['hours']} | {sun['required']} | "
+                       f"{STATUS_LABEL[sun['status']]} |")
+        out.append("")
+    return out
+
+
 def report_markdown(report: dict) -> str:
     cfg = report["inputs"]["config"]
     L = [f"# EN 17037 check: {report['project']['name']}", "",
-         f"Overall status: **{report['status'].upper()}** (en17037cli {report['tool']['version']}, project file `{report['project']['file']}`).", "",
-         "| room | criterion | level reached | level required | result |", "|---|---|---|---|---|"]
+         f"Overall status: **{report['status'].upper()}** (en17037cli {report['tool']['version']}, project file `{report['project']['file']}`).", ""]
+    L += dwellings_markdown(report)
+    L += ["| room | criterion | level reached | level required | result |", "|---|---|---|---|---|"]
     for room in report["rooms"]:
         for key, title in (("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)")):
             u = unassessed(room[key])

@@ -83,6 +83,7 @@ class Room:
     ceiling_source: str = ""
     window_reasons: dict[str, str] = field(default_factory=dict)
     problem: str | None = None
+    zones: tuple[str, ...] = ()  # the IFC zones (IfcZone, IfcSpatialZone) that group the room
 
 
 @dataclass
