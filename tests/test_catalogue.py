@@ -73,7 +73,7 @@ CASES = [
     ("unknown-sun-key", doc_edit(lambda d: d["sunlight"].update(step=5)), "sunlight: unknown key 'step'"),
     ("unknown-room-key", doc_edit(lambda d: d["rooms"][0].update(area=20)), "rooms[0]: unknown key 'area'"),
     ("floor-z-string", doc_edit(lambda d: d["rooms"][0].update(floor_z="ground")), "rooms[0].floor_z: expected number"),
-    ("room-without-name", doc_edit(lambda d: d["rooms"][0].pop("name")), "rooms[0]: missing required key 'name'"),
+    ("room-without-name", doc_edit(lambda d: d["rooms"][0].pop("name")), "rooms[0]: a room needs 'name' and 'floor_z', or 'ifc_spaces'"),
     ("duplicate-room", doc_edit(lambda d: d["rooms"].append(dict(d["rooms"][0]))), "room name 'box room' is used twice"),
     ("layer-enum", doc_edit(lambda d: files0(d)["layers"][0].update(layer="walls")), "layers[0].layer: expected one of"),
     ("layer-and-layers", doc_edit(lambda d: files0(d).update(layer="interior")), "give 'layer' (one layer for the whole file) or 'layers' (rules by name), not both"),

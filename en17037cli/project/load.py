@@ -195,7 +195,7 @@ def _settings(path: Path, config: dict) -> Project:
             vp = [p for f in vp for p in read_points_csv((directory / f).resolve(), f"{path}: rooms[{i}].view_points")]
         req = Requirements(**{**config["requirements"], **room.get("requirements", {})})
         rooms.append(RoomSpec(
-            name=room["name"], index=i, floor_z=float(room["floor_z"]),
+            name=room.get("name", ""), index=i, floor_z=float(room.get("floor_z", 0.0)), ifc_spaces=room.get("ifc_spaces"),
             floor=None if "floor" not in room else np.asarray(room["floor"], dtype=float),
             windows=None if "windows" not in room else tuple(room["windows"]),
             ceiling_z=None if "ceiling_z" not in room else float(room["ceiling_z"]),
@@ -206,7 +206,8 @@ def _settings(path: Path, config: dict) -> Project:
     loc = config.get("location")
     return Project(
         path=path.resolve(), name=config["name"], model=model_settings(config["model"], directory), rooms=tuple(rooms),
-        location=None if loc is None else Location(loc["latitude"], loc["longitude"], loc["timezone"], loc.get("elevation_m", 0.0)),
+        location=None if loc is None else Location(loc.get("latitude"), loc.get("longitude"), loc["timezone"],
+                                                   loc.get("elevation_m", 0.0)),
         view=view_settings(config["view"]) if "view" in config else None,
         sunlight=sun_settings(config["sunlight"]) if "sunlight" in config else None,
         requirements=requirements, thresholds=Thresholds.from_dict(config["thresholds"]), config=config,
@@ -215,7 +216,13 @@ def _settings(path: Path, config: dict) -> Project:
 
 def _check_consistency(path: Path, config: dict) -> None:
     """Rules a JSON Schema cannot express; each raises a one-line :class:`InputError`."""
-    names = [r["name"] for r in config["rooms"]]
+    for i, r in enumerate(config["rooms"]):
+        if "ifc_spaces" in r:
+            clash = [k for k in ("name", "floor_z", "floor", "view_points", "sun_points") if k in r]
+            if clash:
+                raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with ifc_spaces (one entry stands for every matched "
+                                 "space, which gives its name and floor); write the room out instead")
+    names = [r["name"] for r in config["rooms"] if "name" in r]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
         raise InputError(f"{path}: rooms: room name '{dupes[0]}' is used twice; give each room its own name")

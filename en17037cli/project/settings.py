@@ -83,14 +83,14 @@ class ModelFile:
 class ModelSettings:
     units: str
     up_axis: str
-    true_north_deg: float
+    true_north_deg: float | None  # None: from the IFC model's TrueNorth, else 0
     files: tuple[ModelFile, ...]
 
 
 @dataclass(frozen=True)
 class Location:
-    latitude: float  # [deg], north positive
-    longitude: float  # [deg], east positive
+    latitude: float | None  # [deg], north positive; None: from the IFC model's IfcSite
+    longitude: float | None  # [deg], east positive; None: from the IFC model's IfcSite
     timezone: str  # IANA name
     elevation_m: float = 0.0
 
@@ -109,6 +109,8 @@ class RoomSpec:
     """One entry of ``rooms`` as the project file gives it.
 
     floor_z : [m], in the scene frame; ceiling_z : [m] or None (derived from the model)
+    ifc_spaces : a glob on IfcSpace names: the entry stands for one room per matched space (the
+        scene makes their specs; ``name`` and ``floor_z`` are then None)
     floor : (k, 2) [m] polygon in the scene frame, or None (derived from the model)
     windows : globs on window names, or None: every window that bounds the room
     window_margin_m : [m], how far beyond the floor's outline a window of the room may lie (the wall)
@@ -126,6 +128,7 @@ class RoomSpec:
     view_points: np.ndarray | None
     sun_points: np.ndarray | None
     requirements: Requirements
+    ifc_spaces: str | None = None
 
 
 @dataclass(frozen=True)
@@ -258,4 +261,6 @@ def model_file(f: dict, directory: Path) -> ModelFile:
 
 def model_settings(d: dict, directory: Path) -> ModelSettings:
     files = tuple(model_file(f, directory) for f in d["files"])
-    return ModelSettings(units=d["units"], up_axis=d["up_axis"], true_north_deg=float(d["true_north_deg"]), files=files)
+    north = d.get("true_north_deg")
+    return ModelSettings(units=d["units"], up_axis=d["up_axis"], true_north_deg=None if north is None else float(north),
+                         files=files)

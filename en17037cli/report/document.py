@@ -23,6 +23,13 @@ def dwelling_entry(d, rule: str) -> dict:
                          "hours": json_number(d.hours, 4), "shortfall_h": json_number(d.shortfall_h, 4)}}
 
 
+def site_entry(scene) -> dict:
+    """Where the model stands and which way is north, as the run used them (given, or from the model)."""
+    loc = scene.location
+    return {"latitude": None if loc is None else loc.latitude, "longitude": None if loc is None else loc.longitude,
+            "timezone": None if loc is None else loc.timezone, "true_north_deg": json_number(scene.true_north_deg, 6)}
+
+
 def summary(result: RunResult) -> dict:
     """Counts for people and pipelines: rooms meeting view, dwellings meeting sunlight."""
     view = [r.status("view") for r in result.rooms if r.status("view") is not None]
@@ -38,6 +45,7 @@ def build_report(result: RunResult) -> dict:
     Building it is the run's ``report`` stage: its time and the total close ``timings_s``.
     """
     project, scene, ctx = result.project, result.scene, result.context
+    resolved = {"resolved": scene.resolved} if scene.resolved else {}
     rooms = []
     notes = list(scene.notes)
     for r in result.rooms:
@@ -72,7 +80,7 @@ def build_report(result: RunResult) -> dict:
         "tool": {"name": "en17037cli", "version": __version__},
         "project": {"name": project.config.get("name"), "file": project.path.name},
         "inputs": {"config": project.config, "model_files": scene.file_hashes, "local_origin_m": json_xyz(scene.origin, 6),
-                   "checks_run": list(result.checks_run)},
+                   "checks_run": list(result.checks_run), "site": site_entry(scene), **resolved},
         "practice": {"name": project.practice, "source": PRACTICES[project.practice].source,
                      "set": {k: v for k, v in project.practice_set}},
         "status": result.status,

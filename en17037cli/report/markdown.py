@@ -81,14 +81,16 @@ def report_markdown(report: dict) -> str:
               f"a room reaches a level when {v['area_fraction']:.0%} of its points do; outside distance: {v['distance_method']} method, "
               f"{v['distance_statistic']} over the directions; angular resolution {v['angular_resolution_deg']} deg "
               f"(refined {v['refine_levels']} times), horizontal fan {v['horizontal_resolution_deg']} deg."]
+    site = report["inputs"]["site"]
     if "sunlight" in cfg:
         s = cfg["sunlight"]
         L += [f"- Sunlight: year {s['year']}, period {s['period']['start']} to {s['period']['end']}, assessed date {s['date']}; "
               f"sun counted above {s['min_altitude_deg']} deg apparent altitude (refraction {'on' if s['refraction'] else 'off'}); "
               f"timestep {s['timestep_min']} min with changes located to {s['tolerance_s']} s; point P per EN 17037 A.3 on the "
               f"room-side plane of the opening unless given.",
-              f"- Location: {cfg['location']['latitude']} N, {cfg['location']['longitude']} E, {cfg['location']['timezone']}; "
-              f"true north {cfg['model']['true_north_deg']} deg clockwise from model +Y."]
+              f"- Location: {site['latitude']} N, {site['longitude']} E, {site['timezone']}; "
+              f"true north {site['true_north_deg']} deg clockwise from model +Y."]
+        L += [f"- {key} {v['value']} from {v['source']}." for key, v in report["inputs"].get("resolved", {}).items()]
     t = cfg["thresholds"]
     def fmt(d):
         return " / ".join(f"{d[k]:g}" for k in LEVELS[1:])

@@ -10,7 +10,7 @@ import numpy as np
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangle_normals
 from en17037cli.io import ReadOptions, is_context, read_model
-from en17037cli.io.mesh import Mesh
+from en17037cli.io.mesh import Mesh, Space
 from en17037cli.project.settings import ModelFile, ModelSettings, Transform
 from en17037cli.scene.layers import assign_layers
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry
@@ -167,6 +167,17 @@ def _without_the_building(f: LoadedFile, footprint, notes: list) -> LoadedFile:
     return replace(f, mesh=mesh, vertices=mesh.vertices)
 
 
+def placed_space(space: Space, spec: ModelFile) -> Space:
+    """A file's space moved like the file's faces (``transform``; IFC spaces are in metres, z up)."""
+    t = spec.transform
+    if t is None:
+        return space
+    move = lambda xy: transformed(np.column_stack([xy, np.zeros(len(xy))]), t)[:, :2]  # noqa: E731
+    dz = float(t.translate_m[2])
+    return replace(space, footprint=move(space.footprint), holes=tuple(move(h) for h in space.holes),
+                   floor_z=space.floor_z + dz, top_z=space.top_z + dz)
+
+
 def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> Geometry:
     all_v, all_t, all_l, all_s, all_p, parts = [], [], [], [], [], []
     offset = 0
@@ -195,7 +206,10 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
     if not all_v:
         raise InputError(f"{where}: model.files: no geometry loaded (every file is 'ignore')")
     g = Geometry(np.concatenate(all_v), np.concatenate(all_t).astype(np.int64), np.concatenate(all_l).astype(np.int8),
-                 np.concatenate(all_s), parts, np.concatenate(all_p), notes, warnings, hashes)
+                 np.concatenate(all_s), parts, np.concatenate(all_p), notes, warnings, hashes,
+                 sites=[(f.spec.display, f.mesh.site, f.spec.transform.rotate_deg if f.spec.transform else 0.0)
+                        for f in files if f.mesh.site is not None],
+                 spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces])
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
                          "degenerate, NaN or infinite (zero area); re-export the glazing")

@@ -12,7 +12,7 @@ import numpy as np
 
 from en17037cli.geometry import triangle_normals
 from en17037cli.io.mesh import Part
-from en17037cli.project.settings import RoomSpec
+from en17037cli.project.settings import Location, RoomSpec
 
 if TYPE_CHECKING:
     from shapely import Polygon
@@ -39,6 +39,7 @@ class Window:
     triangles: np.ndarray
     normal: np.ndarray
     area_m2: float
+    key: str | None = None  # the product the window belongs to (an IfcWindow's GlobalId), where the file says
 
     @property
     def centroid(self) -> np.ndarray:
@@ -58,7 +59,7 @@ class Window:
 
     def facing(self, normal: np.ndarray) -> Window:
         """The same window with ``normal`` as its outward normal."""
-        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2)
+        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key)
 
 
 @dataclass
@@ -88,11 +89,13 @@ class Room:
 
 @dataclass
 class Geometry:
-    """Faces with their layers and parts.
+    """Faces with their layers and parts, and what the files say of the site and their spaces.
 
     vertices : (n, 3) float64 [m]; triangles : (m, 3) int64
     layer : (m,) int8 layer code; obstructs_sun : (m,) bool
     part : (m,) int64 index into ``parts`` (each part's attributes include ``file``)
+    sites : (file, Site, the file's rotation [deg]) of files that say where they stand
+    spaces : (file, Space) of files that define rooms (IfcSpace), placed like their file's faces
     """
 
     vertices: np.ndarray
@@ -104,17 +107,26 @@ class Geometry:
     notes: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     file_hashes: dict[str, str] = field(default_factory=dict)
+    sites: list = field(default_factory=list)
+    spaces: list = field(default_factory=list)
 
 
 @dataclass(kw_only=True)
 class Scene(Geometry):
     """All faces of the project in a local float64 frame (world = local + origin) [m], with the
-    windows and rooms found in them."""
+    windows and rooms found in them.
+
+    location : the project's location with what it leaves out taken from the model (IfcSite)
+    resolved : what came from where, for the report: key -> {"value": ..., "source": ...}
+    """
 
     origin: np.ndarray
     windows: list[Window]
     rooms: list[Room] = field(default_factory=list)
     true_north_deg: float = 0.0
+    location: Location | None = None
+    resolved: dict = field(default_factory=dict)
+    left_out: list[str] = field(default_factory=list)  # spaces the project picked that no window bounds
 
     def faces_of(self, mask: np.ndarray) -> np.ndarray:
         """(k, 3, 3) float [m] triangles of the faces selected by a boolean mask."""

@@ -131,9 +131,10 @@ def _globbed(window: Window, globs) -> str | None:
     return next((g for g in globs if fnmatch.fnmatchcase(window.name, g)), None)
 
 
-def make_room(scene: Scene, spec: RoomSpec, where: str) -> Room:
+def make_room(scene: Scene, spec: RoomSpec, where: str, keys: set[str] | None = None) -> Room:
     """The :class:`Room` of ``spec``: its floor, ceiling and the windows that bound it, each
-    window's normal turned away from the room."""
+    window's normal turned away from the room. ``keys``: the windows the model itself says bound
+    the room (IFC space boundaries: GlobalIds), which replace the geometric rule."""
     import shapely
 
     floor_z = spec.floor_z - scene.origin[2]
@@ -167,6 +168,11 @@ def make_room(scene: Scene, spec: RoomSpec, where: str) -> Room:
         b = bounds_room(w, poly, floor_z, ceiling_z, spec.window_margin_m, scene.origin[2])
         glob = _globbed(w, spec.windows) if spec.windows is not None else "*"
         if glob is None:
+            continue
+        if keys is not None:  # the file's own space boundaries decide; the geometry only orients
+            if w.key in keys:
+                windows.append(w.facing(b.normal))
+                reasons[w.name] = "named by the model's space boundaries (IfcRelSpaceBoundary)"
             continue
         if not b.bounds:
             if spec.windows is None:

@@ -38,32 +38,110 @@ def connected_components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         label = new
 
 
-def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarray, parts: list[Part],
-                 part: np.ndarray) -> list[Window]:
-    """Group window faces into windows: edge-connected components of coplanar faces.
+#: Glass layers of one pane closer than this are one thin solid (a pane modelled with thickness,
+#: double or triple glazing): the scene keeps its outer face [m].
+MAX_GLAZING_THICKNESS_M = 0.1
 
-    Vertices are welded within :data:`WELD_M`; two faces sharing an edge join when their normals
-    differ by less than :data:`COPLANAR_ANGLE_DEG` and their planes by less than
-    :data:`COPLANAR_OFFSET_M`. A window is named after the part of its first face.
-    """
-    if len(face_ids) == 0:
-        return []
-    tri = triangles[face_ids]
-    keys = np.round(vertices / WELD_M).astype(np.int64)
-    _, welded = np.unique(keys, axis=0, return_inverse=True)
-    welded = welded.reshape(-1)
-    t = welded[tri]
-    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+
+def shared_edges(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (a, b) of faces (rows of ``tri``, welded vertex ids) that share an edge."""
+    edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
     owner = np.tile(np.arange(len(tri)), 3)
     order = np.lexsort((edges[:, 1], edges[:, 0]))
     e, o = edges[order], owner[order]
     same = np.all(e[1:] == e[:-1], axis=1)
-    a, b = o[:-1][same], o[1:][same]
+    return o[:-1][same], o[1:][same]
+
+
+def outer_surface(tv: np.ndarray, normals: np.ndarray, areas: np.ndarray, group: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """Faces to keep of glazing modelled as thin solids: the outer face of each pane.
+
+    Each group (a window product's glazing, or glazing faces joined by edges) whose faces parallel
+    to its main plane lie in two or more layers within :data:`MAX_GLAZING_THICKNESS_M` is a thin
+    solid (both sides of the glass, and the rims between them): only its outermost layer stays,
+    outermost seen from ``centre`` (3,) [m], a point inside the building. A group with one layer
+    (a pane modelled as a surface) stays whole.
+
+    Returns
+    -------
+    (k,) bool mask over the faces
+    """
+    keep = np.ones(len(tv), dtype=bool)
+    cos_tol = np.cos(np.radians(COPLANAR_ANGLE_DEG))
+    for g in np.unique(group):  # one step per window group
+        members = np.flatnonzero(group == g)
+        n, a = normals[members], areas[members]
+        cov = (n * a[:, None]).T @ n
+        d = np.linalg.eigh(cov)[1][:, -1]  # the main plane's normal (either sign)
+        pane = np.abs(n @ d) >= cos_tol
+        offs = tv[members].mean(axis=1) @ d
+        po = np.sort(offs[pane])
+        layers = np.r_[True, np.diff(po) > COPLANAR_OFFSET_M].sum() if len(po) else 0
+        if layers < 2 or po[-1] - po[0] > MAX_GLAZING_THICKNESS_M:
+            continue
+        side = 1.0 if (tv[members].reshape(-1, 3).mean(axis=0) - centre) @ d >= 0 else -1.0
+        outer = (side * offs).max()
+        keep[members] = pane & (np.abs(side * offs - outer) <= COPLANAR_OFFSET_M)
+    return keep
+
+
+def coplanar_clusters(normals: np.ndarray, centroids: np.ndarray) -> np.ndarray:
+    """Index of a representative face for each face (k,), faces grouped by their plane: normals
+    within :data:`COPLANAR_ANGLE_DEG` (either sign) and offsets within :data:`COPLANAR_OFFSET_M`,
+    whether or not they touch. The first face not yet placed opens a plane, vectorised over faces."""
+    cos_tol = np.cos(np.radians(COPLANAR_ANGLE_DEG))
+    rep = np.full(len(normals), -1)
+    while (rep < 0).any():  # one pass per plane (a window has one to a few)
+        i = int(np.flatnonzero(rep < 0)[0])
+        same = (rep < 0) & (np.abs(normals @ normals[i]) >= cos_tol) & (np.abs((centroids - centroids[i]) @ normals[i]) <= COPLANAR_OFFSET_M)
+        rep[same] = i
+    return rep
+
+
+def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarray, parts: list[Part],
+                 part: np.ndarray, centre: np.ndarray | None = None) -> tuple[list[Window], np.ndarray]:
+    """Group window faces into windows, after reducing thin-solid glass to its outer faces.
+
+    Faces of a product that names its windows (``Part.window``, an IfcWindow's GlobalId) form one
+    window per plane, its panes together, named after the product. Other glazing forms windows of
+    edge-connected coplanar faces: vertices are welded within :data:`WELD_M`; two faces sharing
+    an edge join when their normals differ by less than :data:`COPLANAR_ANGLE_DEG` and their
+    planes by less than :data:`COPLANAR_OFFSET_M`; such a window is named after the part of its
+    first face. Glass modelled with thickness keeps its outer face (:func:`outer_surface`).
+
+    Returns
+    -------
+    windows, dropped : the windows, and the face ids of glazing left out (inner faces and rims of
+        thin solids)
+    """
+    if len(face_ids) == 0:
+        return [], np.zeros(0, np.int64)
+    tri = triangles[face_ids]
+    used, inverse = np.unique(tri, return_inverse=True)  # weld only the glazing's own vertices
+    keys = np.round(vertices[used] / WELD_M).astype(np.int64)
+    _, welded = np.unique(keys, axis=0, return_inverse=True)
+    t = welded.reshape(-1)[inverse.reshape(tri.shape)]
+    a, b = shared_edges(t)
     tv = vertices[tri]
-    normals, _ = triangle_normals(tv)
+    normals, areas = triangle_normals(tv)
+    wkey = np.array([parts[p].window or "" for p in part[face_ids]], dtype=object)
+    keyed = wkey != ""
+    solid = connected_components(len(tri), a, b)  # glazing joined by edges, whatever the angle
+    _, group = np.unique(np.where(keyed, "k:" + wkey.astype(str), "s:" + solid.astype(str)), return_inverse=True)
+    if centre is None:
+        centre = vertices.mean(axis=0)
+    keep = outer_surface(tv, normals, areas, group, centre)
+    dropped = face_ids[~keep]
+    face_ids, tri, tv, normals, areas, wkey, keyed = (x[keep] for x in (face_ids, tri, tv, normals, areas, wkey, keyed))
+    a, b = shared_edges(t[keep])
     cos_ok = np.abs(np.einsum("ij,ij->i", normals[a], normals[b])) >= np.cos(np.radians(COPLANAR_ANGLE_DEG))
     offset_ok = np.abs(np.einsum("ij,ij->i", normals[a], tv[b].mean(axis=1) - tv[a].mean(axis=1))) <= COPLANAR_OFFSET_M
-    label = connected_components(len(tri), a[cos_ok & offset_ok], b[cos_ok & offset_ok])
+    join = cos_ok & offset_ok & ~keyed[a] & ~keyed[b]
+    label = connected_components(len(tv), a[join], b[join])
+    if keyed.any():  # a product's panes: one window per plane, whether or not they touch
+        for k in np.unique(wkey[keyed]):  # one step per window product
+            idx = np.flatnonzero(wkey == k)
+            label[idx] = idx[coplanar_clusters(normals[idx], tv[idx].mean(axis=1))]
     roots = np.unique(label)
     base_names = []
     for root in roots:  # one small step per window, not per face
@@ -75,16 +153,16 @@ def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarr
     for k, root in enumerate(roots):
         members = np.flatnonzero(label == root)
         tris = tv[members]
-        n, areas = triangle_normals(tris)
-        normal = (n * areas[:, None]).sum(axis=0)
+        n, ar = triangle_normals(tris)
+        normal = (n * ar[:, None]).sum(axis=0)
         normal /= np.linalg.norm(normal)
         name = base_names[k]
         if counts[name] > 1:
             seen[name] = seen.get(name, 0) + 1
             name = f"{name} #{seen[name]}"
-        windows.append(Window(name=name, index=k, face_ids=face_ids[members], triangles=tris,
-                              normal=normal, area_m2=float(areas.sum())))
-    return windows
+        windows.append(Window(name=name, index=k, face_ids=face_ids[members], triangles=tris, normal=normal,
+                              area_m2=float(ar.sum()), key=wkey[members[0]] or None))
+    return windows, dropped
 
 
 def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window], labels, part, where: str) -> None:

@@ -26,10 +26,10 @@ class SunlightCriterion(Criterion):
         return project.sunlight
 
     def _settings(self, ctx: Context) -> tuple[SunSettings, Location]:
-        p = ctx.project
-        if p.sunlight is None or p.location is None:
+        p, loc = ctx.project, ctx.scene.location  # the project's location, completed from the model (IfcSite)
+        if p.sunlight is None or loc is None:
             raise ValueError("the sunlight criterion runs only on projects with sunlight and location sections")
-        return p.sunlight, p.location
+        return p.sunlight, loc
 
     def ray_groups(self, scene):
         return [room_window_group(r) for r in scene.rooms] + ["interior", "sun"]

@@ -10,17 +10,20 @@ from en17037cli.project.settings import SunSettings
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene, Window
 
-#: Start of the reveal search, outside the glazing plane [m], and the lateral step beyond a jamb [m].
+#: Start of the reveal search, outside the glazing plane [m], and the lateral steps beyond a jamb of
+#: the glass [m]: the first lands in the reveal of a wall that meets the glass, the others beyond a
+#: window frame up to 23 cm wide (BIM windows: the glass sits in a frame, the frame in the opening).
 REVEAL_PROBE_OUTSIDE_M = 0.01
-REVEAL_PROBE_BEYOND_JAMB_M = 0.02
+REVEAL_PROBE_BEYOND_JAMB_M = (0.02, 0.12, 0.25)
 
 
 def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.ndarray, axis: np.ndarray, half_width: float, max_depth: float) -> float:
     """Depth of the room-side plane of the opening behind the glazing plane [m].
 
-    Probes start just outside the glazing plane, 2 cm beyond each jamb (inside the wall, if it
-    has thickness), and run inwards along -normal through the interior faces; the deepest face
-    parallel to the window (|cos| > 0.9) crossed within ``max_depth`` is the wall's inner face.
+    Probes start just outside the glazing plane, 2, 12 and 25 cm beyond each jamb of the glass
+    (inside the wall, or the window's frame, if they have thickness), and run inwards along -normal
+    through the interior faces; the deepest face parallel to the window (|cos| > 0.9) crossed
+    within ``max_depth`` is the wall's inner face (a frame's inner face lies in front of it).
     Zero where the wall has no thickness or no wall flanks the window.
 
     Parameters
@@ -29,10 +32,10 @@ def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.
     normal, axis : (3,) outward normal and horizontal width axis (unit)
     half_width, max_depth : float [m]
     """
-    off = half_width + REVEAL_PROBE_BEYOND_JAMB_M
-    origins = np.array([start + off * axis, start - off * axis]) + REVEAL_PROBE_OUTSIDE_M * normal
-    dirs = np.tile(-normal, (2, 1))
-    travelled = np.zeros(2)
+    off = half_width + np.asarray(REVEAL_PROBE_BEYOND_JAMB_M)
+    origins = np.concatenate([start + off[:, None] * axis, start - off[:, None] * axis]) + REVEAL_PROBE_OUTSIDE_M * normal
+    dirs = np.tile(-normal, (len(origins), 1))
+    travelled = np.zeros(len(origins))
     deepest = 0.0
     for _ in range(4):  # a few crossings: outer face, inner face, beyond
         face, t = engine.first_hit("interior", origins, dirs)

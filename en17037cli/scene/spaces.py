@@ -1,0 +1,51 @@
+"""Rooms from the spaces a model defines (IfcSpace): one room per space a project's ``ifc_spaces`` glob picks."""
+from __future__ import annotations
+
+import fnmatch
+from dataclasses import replace
+
+from en17037cli.errors import InputError
+from en17037cli.io.mesh import Space
+from en17037cli.project.settings import RoomSpec
+from en17037cli.scene.model import Room, Scene
+from en17037cli.scene.rooms import make_room
+
+
+def room_name(space: Space) -> str:
+    """How reports name a space: 'LongName (Name)', or whichever of them it has, or its GlobalId."""
+    if space.long_name and space.name:
+        return f"{space.long_name} ({space.name})"
+    return space.long_name or space.name or space.id
+
+
+def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
+    """A room for each space whose Name, LongName or GlobalId the spec's glob matches.
+
+    Floor: the space's footprint at its bottom; ceiling: its top. Windows: those the file's space
+    boundaries name where the file has any (IfcRelSpaceBoundary), else those that bound the room
+    geometrically (:func:`~en17037cli.scene.rooms.bounds_room`). A space with no window is left out
+    of the check, with a note (``validate`` lists it).
+    """
+    glob = spec.ifc_spaces or "*"
+    if not scene.spaces:
+        raise InputError(f"{where}.ifc_spaces: the model has no IfcSpace; list the rooms with name and floor_z instead")
+    picked = [(d, s) for d, s in scene.spaces
+              if any(fnmatch.fnmatchcase(v, glob) for v in (s.name, s.long_name, s.id, room_name(s)) if v)]
+    if not picked:
+        known = ", ".join(room_name(s) for _, s in scene.spaces[:8])
+        raise InputError(f"{where}.ifc_spaces: '{glob}' matches no IfcSpace; spaces: {known}")
+    with_boundaries = {d for d, s in scene.spaces if s.windows}
+    rooms = []
+    for display, space in sorted(picked, key=lambda ds: (ds[1].floor_z, room_name(ds[1]))):  # storey by storey
+        name = room_name(space)
+        room_spec = replace(spec, name=name, floor_z=space.floor_z, floor=space.footprint, ceiling_z=space.top_z,
+                            view_points=None, sun_points=None)
+        keys = set(space.windows) if display in with_boundaries else None
+        room = make_room(scene, room_spec, f"{where} '{name}'", keys=keys)
+        room.zones = space.zones
+        if room.problem and not room.windows:
+            scene.notes.append(f"IfcSpace '{name}': {room.problem}; left out of the check")
+            scene.left_out.append(name)
+            continue
+        rooms.append(room)
+    return rooms
