@@ -223,7 +223,11 @@ def validate(project_file: Path, overrides, max_points, objects):
     if pf.points:
         click.echo(f"estimated cost: {pf.points:,} viewpoints, {pf.cells:,.0f} sampling cells (budget {max_points or MAX_POINTS:,} viewpoints)")
     bounding = set()
+    storey = None
     for room in scene.rooms:
+        if room.storey and room.storey != storey:
+            storey = room.storey
+            click.echo(f"storey '{storey}':")
         if room.problem:
             click.echo(f"room '{room.name}': NOT ASSESSABLE: {room.problem}")
             continue
@@ -238,6 +242,8 @@ def validate(project_file: Path, overrides, max_points, objects):
         for crit, rooms in pf.unassessable.items():
             if room.name in rooms:
                 click.echo(f"  {crit}: NOT ASSESSABLE: {rooms[room.name]}")
+    for name in scene.left_out:
+        click.echo(f"space '{name}': no window bounds it; left out of the check")
     for w in scene.windows:
         if w.name not in bounding:
             click.echo(f"note: window '{w.name}' bounds no room of the project")

@@ -246,7 +246,8 @@ def _spaces(f, m) -> list[Space]:
                          storey=storey, footprint=np.asarray(poly.exterior.coords)[:-1], floor_z=z0,
                          top_z=float(v[:, 2].max()), windows=windows, zones=zones,
                          holes=tuple(np.asarray(r.coords)[:-1] for r in poly.interiors)))
-    return out
+    # the geometry iterator hands shapes over in no fixed order: floors up, then by name, for a stable report
+    return sorted(out, key=lambda s: (round(s.floor_z, 3), s.name, s.long_name, s.id))
 
 
 @register(".ifc")

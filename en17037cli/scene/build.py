@@ -27,7 +27,7 @@ def resolve_north(project: Project, g: Geometry) -> tuple[float, dict | None]:
     TrueNorth turned with the file's rotation), else 0."""
     if project.model.true_north_deg is not None:
         return project.model.true_north_deg, None
-    for display, site, rotate_deg in g.sites:
+    for _display, site, rotate_deg in g.sites:
         if site.true_north_deg is not None:
             north = (site.true_north_deg - rotate_deg) % 360.0
             return north, {"value": round(north, 6), "source": site.source + (f", turned by the file's transform ({rotate_deg:g} deg)"
@@ -37,7 +37,8 @@ def resolve_north(project: Project, g: Geometry) -> tuple[float, dict | None]:
 
 def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Location | None, dict]:
     """The project's location with a latitude or longitude it leaves out taken from the model's IfcSite."""
-    loc, out = project.location, {}
+    loc = project.location
+    out: dict = {}
     if loc is None or (loc.latitude is not None and loc.longitude is not None):
         return loc, out
     site = next((s for _, s, _ in g.sites if s.latitude is not None and s.longitude is not None), None)

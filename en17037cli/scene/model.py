@@ -85,6 +85,7 @@ class Room:
     window_reasons: dict[str, str] = field(default_factory=dict)
     problem: str | None = None
     zones: tuple[str, ...] = ()  # the IFC zones (IfcZone, IfcSpatialZone) that group the room
+    storey: str = ""  # the IFC building storey of the room's space
 
 
 @dataclass
@@ -127,6 +128,7 @@ class Scene(Geometry):
     location: Location | None = None
     resolved: dict = field(default_factory=dict)
     left_out: list[str] = field(default_factory=list)  # spaces the project picked that no window bounds
+
 
     def faces_of(self, mask: np.ndarray) -> np.ndarray:
         """(k, 3, 3) float [m] triangles of the faces selected by a boolean mask."""

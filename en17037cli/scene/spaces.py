@@ -42,7 +42,8 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
                             view_points=None, sun_points=None)
         keys = set(space.windows) if display in with_boundaries else None
         room = make_room(scene, room_spec, f"{where} '{name}'", keys=keys)
-        room.zones = space.zones
+        room.zones, room.storey = space.zones, space.storey
+        room.floor_source, room.ceiling_source = "the IfcSpace's footprint", "the IfcSpace's top"
         if room.problem and not room.windows:
             scene.notes.append(f"IfcSpace '{name}': {room.problem}; left out of the check")
             scene.left_out.append(name)
