@@ -10,8 +10,12 @@ Speed is measured here, never in a timed test. Sections:
 3. **Large context**: the same for the synthetic room inside a generated city of about 1 million
    triangles read from a binary PLY file.
 4. **Scaling**: view time against triangles, viewpoints and angular resolution.
+5. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
+   :func:`en17037cli.samples.ifc.block`), wall time, stage times and peak memory against the
+   number of rooms checked (1, 10, 100, 216), view and sunlight with the defaults.
 
-Usage: ``python benchmarks/bench.py [--out bench.json] [--quick]`` from the repository (it needs ``sample_projects/``).
+Usage: ``python benchmarks/bench.py [--out bench.json] [--quick] [--only SECTION ...]`` from the
+repository (it needs ``sample_projects/``).
 """
 from __future__ import annotations
 
@@ -170,10 +174,51 @@ def scaling(quick: bool) -> dict:
     return out
 
 
+#: Rooms checked in the whole-building section (of the block's 216).
+BLOCK_ROOMS = (1, 10, 100, 216)
+
+
+def block_project(directory: Path, n_rooms: int) -> Path:
+    """A project on the generated apartment block (``block.ifc`` in ``directory``, written on
+    first use) checking its first ``n_rooms`` spaces in storey order: view medium, sunlight
+    minimum on the worst day of 1 February - 21 March, one main room per flat."""
+    import yaml
+
+    from en17037cli.io import read_model
+    from en17037cli.samples.ifc import block
+
+    ifc = directory / "block.ifc"
+    if not ifc.exists():
+        block(ifc)
+    names = [s.name for s in read_model(ifc).spaces][:n_rooms]
+    doc = {"version": 1, "name": f"Apartment block, {n_rooms} rooms", "model": {"files": [{"path": "block.ifc"}]},
+           "location": {"timezone": "Europe/Amsterdam"}, "rooms": [{"ifc_spaces": n} for n in names],
+           "dwellings": {"ifc_zones": "*"}, "view": {}, "sunlight": {"date": "worst"},
+           "requirements": {"view": "medium", "sunlight": "minimum", "sunlight_rooms": "any"}}
+    path = directory / f"block_{n_rooms}.yaml"
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
+def whole_building(quick: bool) -> list:
+    """Wall time, stage times and peak memory of ``en17037 check`` against rooms checked in the block."""
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in (BLOCK_ROOMS[:3] if quick else BLOCK_ROOMS):
+            r = run_check(block_project(Path(tmp), n))
+            st = r["stages_s"]
+            work = st.get("view", 0.0) + st.get("sunlight", 0.0)
+            rows.append({"rooms": n, "wall_s": r["wall_s"], "load": st.get("load"), "view": st.get("view"),
+                         "sunlight": st.get("sunlight"), "per_room_s": r["wall_s"] / n, "checks_per_room_s": work / n,
+                         "peak_mb": r["peak_mb"], "rays": r["rays"]})
+    return rows
+
+
 #: Short column headings of the printed tables (the JSON keeps the long names).
 LABELS = {"raw_embreex_1_thread_mrays_s": "raw 1 thread", "raw_embreex_mrays_s": "raw", "engine_first_hit_mrays_s": "engine",
           "engine_occluded_mrays_s": "engine occluded", "engine_share_of_raw": "engine / raw", "peak_mb": "peak MB",
-          "context_triangles": "triangles", "grid_spacing_m": "grid m", "angular_resolution_deg": "resolution deg"}
+          "context_triangles": "triangles", "grid_spacing_m": "grid m", "angular_resolution_deg": "resolution deg",
+          "per_room_s": "wall / room", "checks_per_room_s": "view+sun / room"}
 
 
 def _table(title: str, rows: list, columns: list) -> None:
@@ -188,39 +233,50 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
+SECTIONS = ("throughput", "check", "scaling", "building")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python benchmarks/bench.py", description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="bench.json", help="JSON file to write (default bench.json)")
-    ap.add_argument("--quick", action="store_true", help="skip the 1-million-triangle runs")
+    ap.add_argument("--quick", action="store_true", help="skip the 1-million-triangle runs and the 216-room block")
+    ap.add_argument("--only", nargs="+", choices=SECTIONS, default=list(SECTIONS), help="sections to run (default all)")
     args = ap.parse_args(argv)
     import embreex
 
-    result = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "numpy": np.__version__,
-                          "embreex": getattr(embreex, "__version__", "?"), "platform": platform.platform()}}
-    result["throughput"] = throughput()
-    tp = result["throughput"]
-    _table("Ray throughput on the seed office's view rays [M rays/s]", [tp],
-           ["rays", "threads", "raw_embreex_1_thread_mrays_s", "raw_embreex_mrays_s", "engine_first_hit_mrays_s",
-            "engine_occluded_mrays_s", "engine_share_of_raw"])
-    checks = []
-    for name, path in SAMPLES.items():
-        r = run_check(path)
-        checks.append({"project": name, "wall_s": r["wall_s"], "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
-    if not args.quick:
-        with tempfile.TemporaryDirectory() as tmp:
-            r = run_check(city_project(Path(tmp), 1_000_000))
-            checks.append({"project": "synthetic-street + 1M-triangle city (PLY)", "wall_s": r["wall_s"],
-                           "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
-    result["check"] = checks
-    _table("en17037 check (child process; wall includes start-up) [s, MB]", checks,
-           ["project", "wall_s", "peak_mb", "load", "build", "view", "sunlight", "report", "rays"])
-    result["scaling"] = scaling(args.quick)
-    sc = result["scaling"]
-    _table("View time against context triangles (synthetic room, 0.5 m grid)", sc["triangles"],
-           ["context_triangles", "build_s", "view_s", "wall_s", "peak_mb"])
-    _table("View time against viewpoints (seed office)", sc["viewpoints"], ["grid_spacing_m", "view_s", "rays"])
-    _table("View time against angular resolution (seed office, 0.5 m grid)", sc["resolution"],
-           ["angular_resolution_deg", "view_s", "rays"])
+    result: dict = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "numpy": np.__version__,
+                                "embreex": getattr(embreex, "__version__", "?"), "platform": platform.platform()}}
+    if "throughput" in args.only:
+        result["throughput"] = throughput()
+        tp = result["throughput"]
+        _table("Ray throughput on the seed office's view rays [M rays/s]", [tp],
+               ["rays", "threads", "raw_embreex_1_thread_mrays_s", "raw_embreex_mrays_s", "engine_first_hit_mrays_s",
+                "engine_occluded_mrays_s", "engine_share_of_raw"])
+    if "check" in args.only:
+        checks = []
+        for name, path in SAMPLES.items():
+            r = run_check(path)
+            checks.append({"project": name, "wall_s": r["wall_s"], "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
+        if not args.quick:
+            with tempfile.TemporaryDirectory() as tmp:
+                r = run_check(city_project(Path(tmp), 1_000_000))
+                checks.append({"project": "synthetic-street + 1M-triangle city (PLY)", "wall_s": r["wall_s"],
+                               "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
+        result["check"] = checks
+        _table("en17037 check (child process; wall includes start-up) [s, MB]", checks,
+               ["project", "wall_s", "peak_mb", "load", "build", "view", "sunlight", "report", "rays"])
+    if "scaling" in args.only:
+        result["scaling"] = scaling(args.quick)
+        sc = result["scaling"]
+        _table("View time against context triangles (synthetic room, 0.5 m grid)", sc["triangles"],
+               ["context_triangles", "build_s", "view_s", "wall_s", "peak_mb"])
+        _table("View time against viewpoints (seed office)", sc["viewpoints"], ["grid_spacing_m", "view_s", "rays"])
+        _table("View time against angular resolution (seed office, 0.5 m grid)", sc["resolution"],
+               ["angular_resolution_deg", "view_s", "rays"])
+    if "building" in args.only:
+        result["building"] = whole_building(args.quick)
+        _table("Whole building: the generated IFC apartment block, defaults [s, MB]", result["building"],
+               ["rooms", "wall_s", "load", "view", "sunlight", "per_room_s", "checks_per_room_s", "peak_mb", "rays"])
     Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(f"wrote {args.out}")
     return 0

@@ -191,6 +191,8 @@ def _summary(report: dict, out: Path):
     if s["dwellings_sunlight_required"] > 1:
         console.print(f"{s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass sunlight; "
                       f"{s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass view")
+    for w in report["warnings"]:
+        console.print(f"warning: {w}", style="yellow", highlight=False)
     console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.md, report.json, view_points.csv, sunlight_days.csv)")
 
 

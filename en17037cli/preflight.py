@@ -152,5 +152,17 @@ def preflight(ctx: Context, max_points: int = MAX_POINTS) -> Preflight:
     for name, c in CRITERIA.items():
         if c.settings(project) is not None:
             pf.unassessable[name] = c.check_inputs(ctx)
-    pf.warnings += windows_without_a_way_out(scene, ctx.engine)
+    pf.warnings += windows_without_a_way_out(scene, ctx.engine) + requirement_warnings(project)
     return pf
+
+
+def requirement_warnings(project: Project) -> list[str]:
+    """A run that checks nothing, or requires nothing, passes whatever the model: say so."""
+    run = [name for name, c in CRITERIA.items() if c.settings(project) is not None]
+    if not run:
+        return ["no check runs: the project has neither a 'view' nor a 'sunlight' section (add 'view: {}' or "
+                "'sunlight: {}' to run one with its defaults)"]
+    if all(getattr(spec.requirements, name) == "none" for spec in project.rooms for name in run):
+        return [f"no room requires a level of {' or '.join(run)}: the levels are reported, the status passes whatever "
+                "they are (set 'requirements')"]
+    return []

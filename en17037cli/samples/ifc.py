@@ -317,3 +317,72 @@ def house(path: Path, schema: str = "IFC4", map_conversion: bool = False, true_n
     b.zone("Flat A", [spaces["0.01"], spaces["0.02"]])
     b.zone("Flat B", [spaces["1.01"], spaces["1.02"]])
     return b.write(path)
+
+
+#: The apartment block's rooms per flat: (LongName, width along the façade [m]).
+BLOCK_ROOMS = (("Living", 3.6), ("Bedroom", 3.0), ("Bedroom 2", 2.4))
+
+
+def block(path: Path, storeys: int = 6, flats_per_storey: int = 12, schema: str = "IFC4") -> Path:
+    """Write an apartment block: ``storeys`` storeys of 3 m, ``flats_per_storey`` flats each
+    (half on the south façade, half on the north, either side of a 1.6 m corridor), three rooms
+    per flat (:data:`BLOCK_ROOMS`, 5.5 m deep) each with one 1.2 x 1.5 m window (sill 0.9 m) in
+    the 0.3 m outer wall; partitions of 0.1 m between rooms; from the first floor up, a balcony
+    (1.5 m deep, 0.2 m slab, 1.0 m railing) in front of every living room, shading the window
+    below it; a neighbouring block 25 m to the south (a proxy: landscape). Spaces are named
+    ``<storey>.<flat>.<room>`` (e.g. '2.07.1'), LongName from :data:`BLOCK_ROOMS`, and grouped
+    in one zone per flat ('Flat 2.07'). Defaults: 6 x 12 x 3 = 216 rooms.
+    """
+    per_side = -(-flats_per_storey // 2)
+    flat_w = sum(w for _, w in BLOCK_ROOMS)
+    length, depth, room_d = per_side * flat_w + 2 * WALL_M, 2 * 5.5 + 1.6 + 2 * WALL_M + 2 * 0.1, 5.5
+    b = Builder(schema)
+    b.building.Name = "Block"
+    b.locate(52.0116, 4.3571, 0.0, None)
+    b.place(b.site)
+    b.represent(b.site, [b.prism([(-60, -80), (length + 60, -80), (length + 60, depth + 60), (-60, depth + 60)], -0.25, 0.2)])
+    n = b.entity("IfcBuildingElementProxy", "Neighbour block")
+    b.place(n)
+    b.represent(n, [b.prism([(0, -37), (length, -37), (length, -25), (0, -25)], 0.0, 15.0)])
+    foot = [(0, 0), (length, 0), (length, depth), (0, depth)]
+    S, N = (0, -1, 0), (0, 1, 0)
+    height = 3.0 * storeys
+    for s in range(storeys):
+        z = 3.0 * s
+        st = b.storey(f"Storey {s}", z)
+        b.slab(f"Slab {s}", st, foot, z - 0.2, 0.2, predefined="FLOOR")
+        walls = [b.wall(f"Wall {s}.{k}", st, *p, *q, z, 2.8) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
+        ys = WALL_M + room_d  # the corridor's walls
+        b.wall(f"Corridor south {s}", st, WALL_M, ys, length - WALL_M, ys, z, 2.8, thickness=0.1)
+        b.wall(f"Corridor north {s}", st, length - WALL_M, depth - ys, WALL_M, depth - ys, z, 2.8, thickness=0.1)
+        for f in range(flats_per_storey):
+            side, i = f % 2, f // 2  # south flats even, north flats odd
+            x = WALL_M + i * flat_w
+            flat = f"{s}.{f + 1:02d}"
+            spaces = []
+            for r, (long_name, w) in enumerate(BLOCK_ROOMS):
+                x0, x1 = x + (0.05 if r or i else 0.0), x + w - 0.05
+                y0, y1 = (WALL_M, WALL_M + room_d) if side == 0 else (depth - WALL_M - room_d, depth - WALL_M)
+                sp = b.space(f"{flat}.{r + 1}", long_name, st, [(x0, y0), (x1, y0), (x1, y1), (x0, y1)], z, 2.8)
+                spaces.append(sp)
+                if r < len(BLOCK_ROOMS) - 1 or i < per_side - 1:  # a partition at the room's east side
+                    b.wall(f"Partition {flat}.{r + 1}", st, x + w + 0.05, y0, x + w + 0.05, y1, z, 2.8, thickness=0.1)
+                cx = x + w / 2
+                if side == 0:
+                    b.window(f"W {flat}.{r + 1}", st, walls[0], (cx, 0.0, z + 1.65), S, (1, 0, 0), 1.2, 1.5, spaces=[sp])
+                else:
+                    b.window(f"W {flat}.{r + 1}", st, walls[2], (cx, depth, z + 1.65), N, (-1, 0, 0), 1.2, 1.5, spaces=[sp])
+                x += w
+            x = WALL_M + i * flat_w
+            if s > 0:  # the living room's balcony, its slab level with the floor
+                w0 = BLOCK_ROOMS[0][1]
+                y_out, y_in = (-1.5, 0.0) if side == 0 else (depth + 1.5, depth)
+                outline = [(x, min(y_out, y_in)), (x + w0, min(y_out, y_in)), (x + w0, max(y_out, y_in)), (x, max(y_out, y_in))]
+                b.slab(f"Balcony {flat}", st, outline, z - 0.2, 0.2, predefined="BASESLAB")
+                rail = b.entity("IfcRailing", f"Railing {flat}")
+                b.place(rail, st)
+                ry = y_out if side == 0 else y_out - 0.05
+                b.represent(rail, [b.prism([(x, ry), (x + w0, ry), (x + w0, ry + 0.05), (x, ry + 0.05)], z, 1.0)])
+            b.zone(f"Flat {flat}", spaces)
+    b.slab("Roof", b.storeys[f"Storey {storeys - 1}"], foot, height - 0.2, 0.2, predefined="ROOF")
+    return b.write(path)

@@ -128,7 +128,17 @@ class Scene(Geometry):
     location: Location | None = None
     resolved: dict = field(default_factory=dict)
     left_out: list[str] = field(default_factory=list)  # spaces the project picked that no window bounds
+    _boxes: tuple = field(default=(None,), repr=False, compare=False)  # cache of window_boxes
 
+
+    def window_boxes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(w, 3), (w, 3) [m]: the lower and upper corners of each window's bounding box, local frame."""
+        key = len(self.windows)
+        if self._boxes[0] != key:
+            lo = np.array([w.triangles.reshape(-1, 3).min(axis=0) for w in self.windows]).reshape(-1, 3)
+            hi = np.array([w.triangles.reshape(-1, 3).max(axis=0) for w in self.windows]).reshape(-1, 3)
+            self._boxes = (key, lo, hi)
+        return self._boxes[1], self._boxes[2]
 
     def faces_of(self, mask: np.ndarray) -> np.ndarray:
         """(k, 3, 3) float [m] triangles of the faces selected by a boolean mask."""

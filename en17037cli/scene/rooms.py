@@ -127,6 +127,20 @@ def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_
                     f"{share[side]:.0%} of its width within {margin_m:g} m of the floor outline, z {lo + z_world:.2f} to {hi + z_world:.2f} m")
 
 
+def windows_near(scene: Scene, floor, floor_z: float, ceiling_z: float, margin_m: float) -> np.ndarray:
+    """(w,) bool: the windows whose bounding box comes within ``margin_m`` [m] of the floor's
+    bounding box in plan and reaches between ``floor_z`` and ``ceiling_z`` + margin [m]: a
+    vectorised first pass, so that a building of many rooms does not test every window against
+    every room (:func:`bounds_room` decides for these)."""
+    if not scene.windows:
+        return np.zeros(0, bool)
+    lo, hi = scene.window_boxes()
+    x0, y0, x1, y1 = floor.bounds
+    tol = margin_m + HEIGHT_TOL_M
+    return ((lo[:, 0] <= x1 + tol) & (hi[:, 0] >= x0 - tol) & (lo[:, 1] <= y1 + tol) & (hi[:, 1] >= y0 - tol)
+            & (hi[:, 2] >= floor_z - HEIGHT_TOL_M) & (lo[:, 2] <= ceiling_z + tol))
+
+
 def _globbed(window: Window, globs) -> str | None:
     return next((g for g in globs if fnmatch.fnmatchcase(window.name, g)), None)
 
@@ -164,15 +178,15 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, keys: set[str] | None = 
     else:
         ceiling_z, ceiling_source = derive_ceiling(scene, poly, floor_z)
     windows, reasons = [], {}
-    for w in scene.windows:  # one test per window of the model
-        b = bounds_room(w, poly, floor_z, ceiling_z, spec.window_margin_m, scene.origin[2])
+    near = windows_near(scene, poly, floor_z, ceiling_z, spec.window_margin_m)
+    for w, close in zip(scene.windows, near):  # one test per window of the model near the room
         glob = _globbed(w, spec.windows) if spec.windows is not None else "*"
-        if glob is None:
-            continue
+        if glob is None or (keys is not None and w.key not in keys) or (not close and spec.windows is None):
+            continue  # a window far from the room cannot bound it; a named one gets its reason below
+        b = bounds_room(w, poly, floor_z, ceiling_z, spec.window_margin_m, scene.origin[2])
         if keys is not None:  # the file's own space boundaries decide; the geometry only orients
-            if w.key in keys:
-                windows.append(w.facing(b.normal))
-                reasons[w.name] = "named by the model's space boundaries (IfcRelSpaceBoundary)"
+            windows.append(w.facing(b.normal))
+            reasons[w.name] = "named by the model's space boundaries (IfcRelSpaceBoundary)"
             continue
         if not b.bounds:
             if spec.windows is None:

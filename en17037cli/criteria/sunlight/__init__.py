@@ -13,6 +13,7 @@ from en17037cli.criteria.sunlight.assess import assess_room, check_sun_points
 from en17037cli.criteria.sunlight.point_p import point_p_height
 from en17037cli.criteria.sunlight.report import sunlight_section
 from en17037cli.criteria.sunlight.results import SunlightResult
+from en17037cli.criteria.sunlight.visibility import SunPath
 from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Location, Project, SunSettings
 from en17037cli.scene.model import room_window_group
@@ -56,7 +57,8 @@ class SunlightCriterion(Criterion):
 
     def assess(self, ctx: Context, room, plan, progress=None) -> SunlightResult:
         settings, location = self._settings(ctx)
-        result = assess_room(ctx.engine, ctx.scene, room, settings, location, ctx.project.thresholds)
+        sun_path = ctx.cache.setdefault("sun_path", SunPath(location, settings))
+        result = assess_room(ctx.engine, ctx.scene, room, settings, location, ctx.project.thresholds, sun_path)
         if progress:
             progress(1)
         return result

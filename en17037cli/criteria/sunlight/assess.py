@@ -7,7 +7,7 @@ from en17037cli import standard
 from en17037cli.criteria.sunlight.intervals import day_bounds, visible_intervals
 from en17037cli.criteria.sunlight.point_p import point_p
 from en17037cli.criteria.sunlight.results import SunlightResult
-from en17037cli.criteria.sunlight.visibility import SunVisibility
+from en17037cli.criteria.sunlight.visibility import SunPath, SunVisibility
 from en17037cli.errors import InputError, NotAssessable
 from en17037cli.project.settings import Location, SunSettings
 from en17037cli.raytrace import RayEngine
@@ -28,8 +28,9 @@ def assessed_day(hours: np.ndarray, dates: list, date: str) -> int:
 
 
 def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettings, location: Location,
-                thresholds: Thresholds) -> SunlightResult:
-    """Sunlight result of one room: P per window, every day's hours and intervals, assessed date and level."""
+                thresholds: Thresholds, sun_path: SunPath | None = None) -> SunlightResult:
+    """Sunlight result of one room: P per window, every day's hours and intervals, assessed date and
+    level. ``sun_path``: the run's shared sun positions (:class:`~.visibility.SunPath`)."""
     notes = []
     explicit = room.spec.sun_points
     problems: list[str | None] = [None] * len(room.windows)
@@ -52,7 +53,7 @@ def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettin
             raise NotAssessable("no window of the room has a point P: " + "; ".join(p for p in problems if p))
     ok = np.array([p is None for p in problems])
     normals = np.array([w.normal for w in room.windows])
-    vis = SunVisibility(engine, pts[ok], normals[ok], room_window_group(room), location, settings, scene.true_north_deg)
+    vis = SunVisibility(engine, pts[ok], normals[ok], room_window_group(room), location, settings, scene.true_north_deg, sun_path)
     dates, t0, t1 = day_bounds(settings.year, settings.period_start, settings.period_end, location.timezone)
     step = settings.timestep_min * 60.0
     intervals, err_s = visible_intervals(vis, t0, t1, step, settings.tolerance_s)

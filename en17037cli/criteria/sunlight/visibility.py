@@ -11,24 +11,51 @@ from en17037cli.raytrace import RayEngine
 SPA_CHUNK = 50_000
 
 
-class SunVisibility:
-    """Visibility of the sun from the P points of one room, vectorised over times."""
+#: Time arrays at least this long are remembered by :class:`SunPath` (the sampling grid, the same
+#: for every room of a run); the bisection's short arrays are computed afresh.
+MEMO_MIN_TIMES = 256
 
-    def __init__(self, engine: RayEngine, points: np.ndarray, normals: np.ndarray, window_group: str, location: Location,
-                 settings: SunSettings, true_north_deg: float):
-        self.engine, self.points, self.normals = engine, points, normals
-        self.window_group = window_group
-        self.loc, self.settings, self.north = location, settings, true_north_deg
 
-    def __call__(self, t: np.ndarray) -> np.ndarray:
-        """(n,) bool: the sun is seen from P through a window of the room at unix times ``t`` [s]."""
+class SunPath:
+    """The sun's apparent elevation and azimuth [deg] at unix times [s] for one site and one
+    set of sunlight settings (NREL SPA, :func:`~.solar_position.solar_position`), shared by the
+    rooms of a run: the sampling grid of the period is computed once, not once per room."""
+
+    def __init__(self, location: Location, settings: SunSettings):
+        self.loc, self.settings = location, settings
+        self._memo: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(elevation, azimuth) (n,) [deg] at unix times ``t`` (n,) [s]."""
+        t = np.ascontiguousarray(t, dtype=float)
+        key = t.tobytes() if len(t) >= MEMO_MIN_TIMES else None
+        if key is not None and key in self._memo:
+            return self._memo[key]
         c = self.settings
-        t = np.asarray(t, dtype=float)
         elev, azim = np.empty(len(t)), np.empty(len(t))
         for a in range(0, len(t), SPA_CHUNK):  # the SPA's periodic terms take (63, n) arrays: bounded memory
             b = a + SPA_CHUNK
             elev[a:b], azim[a:b] = solar_position(t[a:b], self.loc.latitude, self.loc.longitude, self.loc.elevation_m,
                                                   c.pressure_mbar, c.temperature_c, refraction=c.refraction)
+        if key is not None:
+            self._memo[key] = (elev, azim)
+        return elev, azim
+
+
+class SunVisibility:
+    """Visibility of the sun from the P points of one room, vectorised over times."""
+
+    def __init__(self, engine: RayEngine, points: np.ndarray, normals: np.ndarray, window_group: str, location: Location,
+                 settings: SunSettings, true_north_deg: float, sun_path: SunPath | None = None):
+        self.engine, self.points, self.normals = engine, points, normals
+        self.window_group = window_group
+        self.loc, self.settings, self.north = location, settings, true_north_deg
+        self.sun_path = sun_path or SunPath(location, settings)
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        """(n,) bool: the sun is seen from P through a window of the room at unix times ``t`` [s]."""
+        c = self.settings
+        elev, azim = self.sun_path(t)
         up = elev >= c.min_altitude_deg
         seen = np.zeros(len(t), dtype=bool)
         if not up.any():
