@@ -41,7 +41,8 @@ class Part:
         CityJSON attribute ``attr.roofType``) to strings; missing keys are absent, not "".
     layer : the format's default layer for this part (IFC class table, CityJSON type table),
         or None when only the project's rules decide (OBJ, glTF, PLY...).
-    obstructs_sun : the format's default (False for CityJSON PlantCover given as solids, say).
+    obstructs_sun : the format's default; the built-in readers give True for every part, CityJSON
+        vegetation included (a layer rule with ``obstructs_sun: false`` lets the sun through).
     window : faces of parts sharing this key form one window (an IfcWindow's GlobalId: its
         panes together); None lets the scene group glazing by edge-connected coplanar faces.
     """
