@@ -1,4 +1,4 @@
-"""Numbers as the reports write them: fixed decimals, so the same inputs give byte-identical files."""
+"""Numbers as the reports write them: fixed decimals and durations to the minute, so the same inputs give byte-identical files."""
 from __future__ import annotations
 
 import datetime as dt
@@ -24,3 +24,37 @@ def json_xyz(p, nd: int = 4) -> list:
 def iso_time(t: float, tz) -> str:
     """Unix time [s] as local ISO 8601 to the second, in time zone ``tz``."""
     return dt.datetime.fromtimestamp(round(float(t)), tz).isoformat(timespec="seconds")
+
+
+def _minutes(hours: float) -> tuple[str, int]:
+    """A finite duration [h] as its sign (``"-"`` or ``""``) and whole minutes, half a minute rounding up whatever the parity."""
+    total = math.floor(abs(hours) * 60.0 + 0.5)
+    return ("-" if hours < 0 and total else ""), total
+
+
+def fmt_duration(hours: float) -> str:
+    """A duration as reports write it, rounded to the minute: ``"5 h 52 min"``, ``"18 min"``, ``"0 min"``, ``"4 h"``.
+
+    Parameters
+    ----------
+    hours : float [h]
+        NaN or infinite gives ``"n/a"``; a negative duration keeps its sign.
+
+    Returns
+    -------
+    str
+    """
+    h = float(hours)
+    if not math.isfinite(h):
+        return "n/a"
+    sign, total = _minutes(h)
+    hh, mm = divmod(total, 60)
+    if hh == 0:
+        return f"{sign}{mm} min"
+    return f"{sign}{hh} h" + (f" {mm} min" if mm else "")
+
+
+def fmt_hm(hours: float) -> str:
+    """A finite duration [h] as ``"h:mm"`` rounded to the minute, like :func:`fmt_duration`: ``"5:52"``, ``"-0:30"``."""
+    sign, total = _minutes(hours)
+    return f"{sign}{total // 60}:{total % 60:02d}"

@@ -14,7 +14,11 @@ import struct
 import numpy as np
 import pytest
 
-from en17037cli.report import plots as P
+from en17037cli.report import pictures as P
+from en17037cli.report.numbers import fmt_hm
+from en17037cli.report.pictures.canvas import _scale_bar_m
+from en17037cli.report.pictures.colours import _layer_level, _rgb
+from en17037cli.report.pictures.plan import _rot
 
 pytest.importorskip("matplotlib")
 
@@ -31,7 +35,7 @@ def decode(png: bytes) -> np.ndarray:
 
 
 def rgb8(hex_colour: str) -> np.ndarray:
-    return np.round(P._rgb([hex_colour])[0] * 255).astype(np.uint8)
+    return np.round(_rgb([hex_colour])[0] * 255).astype(np.uint8)
 
 
 def png_chunks(png: bytes) -> list[tuple[bytes, bytes]]:
@@ -46,7 +50,7 @@ def png_chunks(png: bytes) -> list[tuple[bytes, bytes]]:
 
 def rotate(p, angle_deg, about=(0.0, 0.0), shift=(0.0, 0.0)):
     """Points (k, 2) rotated counter-clockwise about ``about`` and then shifted [m]."""
-    return (np.asarray(p, dtype=float) - about) @ P._rot(angle_deg).T + np.asarray(about) + np.asarray(shift)
+    return (np.asarray(p, dtype=float) - about) @ _rot(angle_deg).T + np.asarray(about) + np.asarray(shift)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -347,7 +351,7 @@ def test_level_colours_step_up_in_grey():
 def test_layer_colours_step_up_in_grey_in_the_order_of_their_levels():
     # 8 combinations over the same range: steps of about 10.5 L*, 8 keeps them apart in print
     _assert_steps(P.LAYER_COLOURS, 8.0, "layers")
-    levels = [P.LEVEL_NAMES.index(P._layer_level(c)) for c in P.LAYER_ORDER]
+    levels = [P.LEVEL_NAMES.index(_layer_level(c)) for c in P.LAYER_ORDER]
     assert levels == sorted(levels)
     assert sorted(P.LAYER_ORDER) == list(range(8))
 
@@ -473,7 +477,7 @@ def test_plan_map_without_spacing_utilised_or_windows():
 
 
 def test_scale_bar_lengths():
-    assert [P._scale_bar_m(w) for w in (3.0, 6.0, 10.0, 20.0, 40.0, 100.0)] == [0.5, 1.0, 2.0, 5.0, 10.0, 20.0]
+    assert [_scale_bar_m(w) for w in (3.0, 6.0, 10.0, 20.0, 40.0, 100.0)] == [0.5, 1.0, 2.0, 5.0, 10.0, 20.0]
 
 
 # ------------------------------------------------------------------------------------------------
@@ -494,7 +498,7 @@ def test_hours_chart_highlights_the_assessed_day():
 
 
 def test_hour_ticks():
-    assert [P._hm(v) for v in (0.0, 1.5, 3.0, 4.25, 5.8594)] == ["0:00", "1:30", "3:00", "4:15", "5:52"]
+    assert [fmt_hm(v) for v in (0.0, 1.5, 3.0, 4.25, 5.8594)] == ["0:00", "1:30", "3:00", "4:15", "5:52"]
 
 
 def test_module_imports_without_matplotlib():
@@ -502,10 +506,39 @@ def test_module_imports_without_matplotlib():
     import sys
 
     code = ("import sys; sys.modules['matplotlib'] = None\n"  # any matplotlib import now fails
-            "from en17037cli.report import plots\n"
-            "print(plots.fmt_duration(1.5), plots.lightness(plots.LEVEL_COLOURS).round().tolist())")
+            "from en17037cli.report import pictures\n"
+            "print(pictures.fmt_duration(1.5), pictures.lightness(pictures.LEVEL_COLOURS).round().tolist())")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "1 h 30 min [15.0, 42.0, 67.0, 91.0]"
+
+
+def test_package_does_not_import_matplotlib():
+    import subprocess
+    import sys
+
+    code = ("import sys\n"
+            "import en17037cli.report.pictures\n"
+            "import en17037cli.report.pictures.canvas, en17037cli.report.pictures.charts, en17037cli.report.pictures.colours\n"
+            "import en17037cli.report.pictures.fisheye, en17037cli.report.pictures.plan\n"
+            "print(sorted(m for m in sys.modules if m == 'matplotlib' or m.startswith('matplotlib.')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_package_exports_every_public_name_of_the_former_plots_module():
+    from en17037cli.report import numbers
+
+    expected = {
+        "plan_map", "plan_rotation", "fisheye", "fisheye_xy", "fisheye_pixel_xy", "fisheye_directions", "fisheye_pixel",
+        "hours_chart", "tornado", "relative_luminance", "lightness", "continuous_colours", "layer_label", "fmt_duration",
+        "DPI", "PLAN_SIZE_IN", "FISHEYE_SIZE_IN", "CHART_SIZE_IN", "PLAN_BOX_PX", "COLOUR_BAR_PX", "FISHEYE_CENTRE_PX",
+        "FISHEYE_RADIUS_PX", "LEVEL_COLOURS", "LEVEL_NAMES", "SKY", "LANDSCAPE", "GROUND", "LAYER_ORDER", "LAYER_COLOURS",
+        "OUTSIDE", "BLOCKED", "CLASS_SKY", "CLASS_LANDSCAPE", "CLASS_GROUND", "CLASS_NAMES", "CLASS_COLOURS", "WINDOW_COLOUR",
+        "SUN_PATH_COLOUR", "BAR_COLOUR", "ASSESSED_COLOUR", "CMAP", "DISTANCE_VMIN_M",
+    }
+    assert len(P.__all__) == len(expected) and set(P.__all__) == expected
+    assert all(hasattr(P, name) for name in expected)
+    assert P.fmt_duration is numbers.fmt_duration
 
 
 @pytest.mark.parametrize("n", [0, 1])

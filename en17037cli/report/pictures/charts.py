@@ -1,0 +1,137 @@
+"""Charts: the hours of sunlight per day over the assessment period, and the tornado chart of a score's sensitivity."""
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from en17037cli.report.numbers import fmt_duration, fmt_hm
+from en17037cli.report.pictures.canvas import _render
+from en17037cli.report.pictures.colours import ASSESSED_COLOUR, BAR_COLOUR
+
+#: Figure size of the hours chart [in] (width, height).
+CHART_SIZE_IN = (5.0, 3.2)
+
+_MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
+
+
+def _date_label(d) -> str:
+    """``"1 Feb"`` whatever the locale."""
+    return f"{d.day} {_MONTHS[d.month - 1]}"
+
+
+def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_window: dict | None = None, title: str = "") -> bytes:
+    """Sun hours per day over the assessment period, with the level thresholds and the assessed day.
+
+    Parameters
+    ----------
+    dates : sequence of datetime.date, (d,)
+    hours : (d,) float [h], the room's hours of sunlight each day
+    thresholds : dict {"minimum", "medium", "high"} [h]
+    assessed_index : int, position of the assessed day in ``dates`` (its bar is dark and hatched)
+    per_window : dict name -> (d,) float [h], optional; each window's hours as thin lines
+    title : str
+
+    Returns
+    -------
+    bytes, a PNG image of :data:`CHART_SIZE_IN` at :data:`DPI`
+    """
+    hrs = np.asarray(hours, dtype=float).reshape(-1)
+    dates = list(dates)
+    if len(dates) != len(hrs):
+        raise ValueError(f"hours must have shape ({len(dates)},) like dates, not {hrs.shape}")
+    d = len(hrs)
+    k = int(assessed_index)
+
+    def draw(fig):
+        from matplotlib.collections import PolyCollection
+        from matplotlib.patches import Rectangle
+        from matplotlib.ticker import FixedLocator, FuncFormatter, MultipleLocator
+
+        ax = fig.add_axes((0.1, 0.12, 0.72, 0.72))
+        x = np.arange(d)
+        top = np.nan_to_num(hrs)
+        others = np.flatnonzero(x != k)
+        # one collection for the bars (one Rectangle each costs more than the drawing)
+        ax.add_collection(PolyCollection([[(i - 0.4, 0), (i + 0.4, 0), (i + 0.4, top[i]), (i - 0.4, top[i])] for i in others],
+                                         facecolors=BAR_COLOUR, edgecolors="none"))
+        if 0 <= k < d:
+            ax.add_patch(Rectangle((k - 0.4, 0), 0.8, top[k], facecolor=ASSESSED_COLOUR, edgecolor="white", linewidth=0, hatch="////"))
+            ax.annotate(f"assessed {_date_label(dates[k])}\n{fmt_duration(hrs[k])}", (k, float(np.nan_to_num(hrs[k]))),
+                        xytext=(0, 4), textcoords="offset points", ha="center", va="bottom", fontsize=6.5,
+                        bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
+        ymax = max([float(np.nanmax(hrs)) if np.isfinite(hrs).any() else 0.0] + [float(v) for v in thresholds.values()])
+        if per_window:
+            for i, (name, v) in enumerate(per_window.items()):
+                w = np.asarray(v, dtype=float).reshape(-1)
+                ax.plot(x, w, color="black", linewidth=0.8, linestyle=("-", (0, (3, 1.5)), (0, (1, 1.5)), (0, (5, 1.5, 1, 1.5)))[i % 4],
+                        label=f"window {name}")
+                if np.isfinite(w).any():
+                    ymax = max(ymax, float(np.nanmax(w)))
+        for name, ls in (("minimum", (0, (1, 1.5))), ("medium", (0, (4, 2))), ("high", "-")):
+            v = float(thresholds[name])
+            ax.axhline(v, color="black", linewidth=0.9, linestyle=ls)
+            ax.text(1.01, v, f"{name}\n{fmt_duration(v)}", transform=ax.get_yaxis_transform(), ha="left", va="center", fontsize=6.5)
+        ax.set_xlim(-0.7, max(d, 1) - 0.3)
+        ax.set_ylim(0, 1.18 * ymax if ymax > 0 else 1.0)
+        step = 0.5 if ymax <= 3 else (1.0 if ymax <= 8 else 2.0)
+        ax.yaxis.set_major_locator(MultipleLocator(step))
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: fmt_hm(v)))
+        ax.set_ylabel("sunlight [h:mm]")
+        ticks = [i for i in range(d) if i % 7 == 0]
+        ax.xaxis.set_major_locator(FixedLocator(ticks))
+        ax.set_xticklabels([_date_label(dates[i]) for i in ticks])
+        ax.spines[["top", "right"]].set_visible(False)
+        if per_window:
+            fig.legend(loc="upper right", bbox_to_anchor=(0.82, 0.93), fontsize=6.5, ncols=min(len(per_window), 4))
+        if title:
+            fig.text(0.02, 0.985, title, ha="left", va="top", fontsize=9)
+
+    return _render(draw, CHART_SIZE_IN)
+
+
+def tornado(rows: Sequence[tuple[str, float, float, float]], *, title: str = "") -> bytes:
+    """Sensitivity of a score to each modelling choice: bars from the low to the high result.
+
+    Parameters
+    ----------
+    rows : sequence of (label, low, high, default), scores in [0, 3] (a continuous level:
+        0 none, 1 minimum, 2 medium, 3 high)
+    title : str
+
+    Returns
+    -------
+    bytes, a PNG image at :data:`DPI`, 5 in wide, 4 in high up to 10 rows and 0.3 in more per row
+    """
+    items = [(str(lab), float(lo), float(hi), float(de)) for lab, lo, hi, de in rows]
+    items.sort(key=lambda r: (abs(r[2] - r[1]), r[0]))  # largest span at the top
+    n = len(items)
+    height = 4.0 if n <= 10 else 4.0 + 0.3 * (n - 10)
+
+    def draw(fig):
+        ax = fig.add_axes((0.36, 0.12 * 4.0 / height, 0.58, 1.0 - 0.22 * 4.0 / height))
+        y = np.arange(n)
+        for i, (_, lo, hi, de) in enumerate(items):
+            ax.barh(i, lo - de, left=de, height=0.6, color="#31688e", edgecolor="black", linewidth=0.4)
+            ax.barh(i, hi - de, left=de, height=0.6, color="#fde725", edgecolor="black", linewidth=0.4)
+            ax.plot([de, de], [i - 0.4, i + 0.4], color="black", linewidth=1.2)
+        vals = [v for r in items for v in r[1:]]
+        lo_x = min([0.0] + vals)
+        hi_x = max([3.0] + vals)
+        ax.set_xlim(lo_x - 0.05, hi_x + 0.05)
+        ax.set_ylim(-0.7, max(n, 1) - 0.3)
+        ax.set_yticks(y, labels=[r[0] for r in items])
+        ax.set_xticks([0, 1, 2, 3], labels=["none", "minimum", "medium", "high"])
+        for v in (1, 2, 3):
+            ax.axvline(v, color="#808080", linewidth=0.6, linestyle=(0, (2, 2)), zorder=0)
+        ax.set_xlabel("score (level, continuous)")
+        ax.spines[["top", "right"]].set_visible(False)
+        from matplotlib.patches import Patch
+
+        fig.legend(handles=[Patch(facecolor="#31688e", edgecolor="black", linewidth=0.4, label="low choice"),
+                            Patch(facecolor="#fde725", edgecolor="black", linewidth=0.4, label="high choice")],
+                   loc="upper right", bbox_to_anchor=(0.99, 0.995), ncols=2, fontsize=6.5)
+        if title:
+            fig.text(0.02, 0.99, title, ha="left", va="top", fontsize=9)
+
+    return _render(draw, (5.0, height))

@@ -1,0 +1,267 @@
+"""The fisheye from point P: what a person sees through the window, with the sun's paths.
+
+An equidistant projection looking horizontally out of the window: :func:`fisheye_xy` maps
+directions to the picture, :func:`fisheye_directions` maps the picture's pixels back to the
+directions the caller traces, and :func:`fisheye` draws the traced classes with the sun paths.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from en17037cli.report.pictures import colours
+from en17037cli.report.pictures.canvas import DPI, _fmt_num, _legend, _render
+
+#: Figure size [in] (width, height).
+FISHEYE_SIZE_IN = (5.6, 4.0)
+#: Fisheye: centre of the 180 deg circle [px] (column, row from the top of the PNG) and its radius [px].
+FISHEYE_CENTRE_PX = (190, 205)
+FISHEYE_RADIUS_PX = 160
+
+
+def fisheye_xy(azimuth_deg, altitude_deg, view_azimuth_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """Equidistant fisheye coordinates of directions, looking horizontally at ``view_azimuth_deg``.
+
+    The radius is proportional to the angle from the optical axis (1 at 90 deg, the rim of the
+    180 deg field); x is to the right when looking out, y up (the zenith is at (0, 1)).
+    Directions behind the viewer get radii above 1.
+
+    Parameters
+    ----------
+    azimuth_deg : array_like [deg], clockwise from true north
+    altitude_deg : array_like [deg], above the horizon
+    view_azimuth_deg : float [deg], azimuth of the optical axis (the window's outward normal)
+
+    Returns
+    -------
+    x, y : arrays of the broadcast shape, in [-1, 1] within the field
+    """
+    a = np.radians(np.asarray(azimuth_deg, dtype=float) - view_azimuth_deg)
+    h = np.radians(np.asarray(altitude_deg, dtype=float))
+    fwd = np.cos(h) * np.cos(a)
+    right = np.cos(h) * np.sin(a)
+    up = np.sin(h)
+    side = np.hypot(right, up)
+    rho = np.arctan2(side, fwd) / (0.5 * np.pi)  # angle off axis / 90 deg
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x = np.where(side > 0, rho * right / side, np.where(fwd >= 0, 0.0, rho))  # straight behind: off the field
+        y = np.where(side > 0, rho * up / side, 0.0)
+    return x, y
+
+
+def fisheye_pixel_xy(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Fisheye coordinates (x, y) of the pixel centres of an (n, n) raster, row 0 at the top.
+
+    Returns
+    -------
+    x, y : (n, n) float, x[i, j] = (2 j + 1) / n - 1 and y[i, j] = 1 - (2 i + 1) / n
+    """
+    c = (2.0 * np.arange(n) + 1.0) / n - 1.0
+    return np.broadcast_to(c[None, :], (n, n)), np.broadcast_to(-c[:, None], (n, n))
+
+
+def fisheye_directions(n: int, view_azimuth_deg: float, true_north_deg: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Unit vectors in the model frame through the pixel centres of an (n, n) equidistant fisheye.
+
+    The inverse of :func:`fisheye_xy` on the raster of :func:`fisheye_pixel_xy`. A direction of
+    azimuth A (clockwise from true north) and altitude h is the model-frame vector
+    (sin(A + tn) cos h, cos(A + tn) cos h, sin h), tn = ``true_north_deg``, as
+    :func:`en17037cli.criteria.sunlight.solar_position.direction_vectors` has it.
+
+    Parameters
+    ----------
+    n : int, pixels per side
+    view_azimuth_deg : float [deg], azimuth of the optical axis clockwise from true north
+    true_north_deg : float [deg], azimuth of true north clockwise from model +Y
+
+    Returns
+    -------
+    dirs : (n, n, 3) float, unit vectors; pixels outside the circle get the continuation of the
+        projection (directions behind the viewer), to be ignored
+    inside : (n, n) bool, pixel centre within the 180 deg circle (radius <= 1)
+    """
+    x, y = fisheye_pixel_xy(n)
+    rho = np.hypot(x, y)
+    theta = 0.5 * np.pi * rho
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = np.where(rho > 0, np.sin(theta) / rho, 0.5 * np.pi)
+    fwd, right, up = np.cos(theta), s * x, s * y
+    v = math.radians(view_azimuth_deg + true_north_deg)
+    f = np.array([math.sin(v), math.cos(v), 0.0])
+    r = np.array([math.cos(v), -math.sin(v), 0.0])
+    # unit by construction: cos^2 + sin^2 (x^2 + y^2) / rho^2 = 1
+    dirs = np.stack([fwd * f[0] + right * r[0], fwd * f[1] + right * r[1], up], axis=-1)
+    return dirs, rho <= 1.0
+
+
+def fisheye_pixel(x, y) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column of the PNG pixel of :func:`fisheye` that holds fisheye point (x, y).
+
+    For tests and image maps: the circle is centred on :data:`FISHEYE_CENTRE_PX` with radius
+    :data:`FISHEYE_RADIUS_PX`, and the class raster is placed on the PNG's pixel grid without
+    resampling filters (nearest pixel).
+
+    Returns
+    -------
+    row, col : int arrays, row 0 at the top of the image
+    """
+    c0, r0 = FISHEYE_CENTRE_PX
+    col = c0 + np.asarray(x, dtype=float) * FISHEYE_RADIUS_PX
+    row = r0 - np.asarray(y, dtype=float) * FISHEYE_RADIUS_PX
+    return np.floor(row).astype(int), np.floor(col).astype(int)
+
+
+def _fisheye_raster(image: np.ndarray) -> np.ndarray:
+    """The class raster as (2R, 2R, 3) uint8 pixels of the PNG, nearest source pixel, white outside the circle."""
+    n, m = image.shape[0], 2 * FISHEYE_RADIUS_PX
+    src = np.minimum(((np.arange(m) + 0.5) * n / m).astype(int), n - 1)
+    classes = np.clip(image[np.ix_(src, src)].astype(int), colours.OUTSIDE, colours.CLASS_GROUND)
+    x, y = fisheye_pixel_xy(m)
+    classes[np.hypot(x, y) > 1.0] = colours.OUTSIDE
+    lut = np.zeros((5, 3), dtype=np.uint8)
+    for k, colour in colours.CLASS_COLOURS.items():
+        lut[k + 1] = np.round(colours._rgb([colour])[0] * 255).astype(np.uint8)
+    return lut[classes + 1]
+
+
+_COMPASS = (("N", 0), ("NE", 45), ("E", 90), ("SE", 135), ("S", 180), ("SW", 225), ("W", 270), ("NW", 315))
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Half-open index ranges [a, b) of the runs of True in ``mask``."""
+    m = np.concatenate([[False], mask, [False]]).astype(np.int8)
+    d = np.diff(m)
+    return list(zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1)))
+
+
+def _nan_joined(xs: np.ndarray, ys: np.ndarray, runs: list[tuple[int, int]]) -> tuple[np.ndarray, np.ndarray]:
+    """One polyline per run, joined with NaN breaks (one Line2D for many pieces)."""
+    px: list[np.ndarray] = []
+    py: list[np.ndarray] = []
+    for a, b in runs:
+        px += [xs[a:b], np.array([np.nan])]
+        py += [ys[a:b], np.array([np.nan])]
+    return (np.concatenate(px), np.concatenate(py)) if px else (np.zeros(0), np.zeros(0))
+
+
+def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_azimuth_deg: float, title: str = "") -> bytes:
+    """What a person at point P sees through the window: an equidistant fisheye with the sun's paths.
+
+    The optical axis is horizontal at ``view_azimuth_deg`` (the window's outward normal), the field
+    180 deg, the zenith up. The class raster is drawn with :data:`CLASS_COLOURS`; each sun path is
+    projected the same way where the sun is above the horizon and in the field, solid and thick
+    where it is seen from P, thin and dashed where it is hidden, with its hour marks; the curve of
+    the minimum sun altitude is dashed; the compass points are marked on the horizon.
+
+    Parameters
+    ----------
+    image : (N, N) int8, classes traced by the caller on :func:`fisheye_directions` (N,
+        view_azimuth_deg): -1 outside the circle, 0 blocked or interior, 1 sky, 2 landscape,
+        3 ground; row 0 at the top
+    sun_paths : sequence of dict
+        ``{"label": str, "azimuth_deg": (t,) float [deg], "altitude_deg": (t,) float [deg],
+        "visible": (t,) bool, "hour_marks": [(azimuth_deg, altitude_deg, "10:00"), ...]}``
+    min_altitude_deg : float [deg], the lowest sun altitude that counts (clause 5.3)
+    view_azimuth_deg : float [deg], clockwise from true north
+    title : str
+
+    Returns
+    -------
+    bytes, a PNG image of :data:`FISHEYE_SIZE_IN` at :data:`DPI`
+    """
+    img = np.asarray(image)
+    if img.ndim != 2 or img.shape[0] != img.shape[1]:
+        raise ValueError(f"image must have shape (N, N), not {img.shape}")
+    raster = _fisheye_raster(img)
+    R = float(FISHEYE_RADIUS_PX)
+    height_px = FISHEYE_SIZE_IN[1] * DPI
+    cx, cy = float(FISHEYE_CENTRE_PX[0]), height_px - FISHEYE_CENTRE_PX[1]  # display coordinates, y up
+    pt = DPI / 72.0  # [px/pt]
+    boxed = {"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.7}
+
+    def draw(fig):
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Circle
+        from matplotlib.transforms import Affine2D, IdentityTransform
+
+        px = IdentityTransform()
+        T = Affine2D().scale(R).translate(cx, cy)
+        line = lambda x, y, **kw: fig.add_artist(Line2D(x, y, transform=T, **kw))
+        text = lambda x, y, s, dy=0.0, **kw: fig.text(cx + R * x, cy + R * y + dy * pt, s, transform=px, **kw)
+        fig.figimage(raster, xo=int(cx - R), yo=int(cy - R), origin="upper")
+        fig.add_artist(Circle((0, 0), 1.0, fill=False, edgecolor="black", linewidth=1.0, transform=T))
+        line([-1, 1], [0, 0], color="black", linewidth=0.5, alpha=0.6)  # horizon
+        # minimum sun altitude: the curve altitude = const within the field
+        az = view_azimuth_deg + np.linspace(-90.0, 90.0, 181)
+        mx, my = fisheye_xy(az, np.full_like(az, min_altitude_deg), view_azimuth_deg)
+        line(mx, my, color="black", linewidth=1.8)
+        line(mx, my, color="white", linewidth=0.9, linestyle=(0, (3, 2)))
+        marks: dict[str, list] = {}
+        for p in sun_paths:
+            a = np.asarray(p["azimuth_deg"], dtype=float).reshape(-1)
+            h = np.asarray(p["altitude_deg"], dtype=float).reshape(-1)
+            vis = np.asarray(p["visible"], dtype=bool).reshape(-1)
+            x, y = fisheye_xy(a, h, view_azimuth_deg)
+            ok = (h >= 0) & (np.hypot(x, y) <= 1.0)
+            if not ok.any():
+                continue
+            # a segment i..i+1 is drawn when both ends are in the field; seen where both are seen
+            seg_ok = ok[:-1] & ok[1:]
+            seg_vis = seg_ok & vis[:-1] & vis[1:]
+            for seen, lw, casing, ls in ((False, 0.9, 1.8, (0, (3, 2))), (True, 2.2, 3.6, "-")):
+                runs = [(s0, e + 1) for s0, e in _runs(seg_vis if seen else seg_ok & ~seg_vis)]
+                if runs:
+                    jx, jy = _nan_joined(x, y, runs)
+                    line(jx, jy, color="black", linewidth=casing, linestyle=ls, solid_capstyle="butt")
+                    line(jx, jy, color=colours.SUN_PATH_COLOUR, linewidth=lw, linestyle=ls, solid_capstyle="butt")
+            top = int(np.argmax(np.where(ok, y, -np.inf)))
+            if p.get("label"):
+                    text(x[top], y[top], str(p["label"]), dy=4, ha="center", va="bottom", fontsize=6.5,
+                     bbox=boxed | {"boxstyle": "round,pad=0.15"})
+            for ma, mh, lab in p.get("hour_marks", ()):
+                hx, hy = fisheye_xy(ma, mh, view_azimuth_deg)
+                if mh >= 0 and float(np.hypot(hx, hy)) <= 1.0:
+                    marks.setdefault(str(lab), []).append((float(hx), float(hy)))
+        # hour marks: a dot on each path, the same hour joined across the dates, labelled once below
+        for lab, xy in marks.items():
+            xy_a = np.array(xy)
+            if len(xy_a) > 1:
+                line(xy_a[:, 0], xy_a[:, 1], color="black", linewidth=0.5)
+            line(xy_a[:, 0], xy_a[:, 1], linestyle="none", marker="o", markersize=2.8, color="black", markeredgecolor="white",
+                 markeredgewidth=0.5)
+            low = xy_a[int(np.argmin(xy_a[:, 1]))]
+            text(low[0], low[1], lab, dy=-4, ha="center", va="top", fontsize=5.5, bbox=boxed)
+        # compass points on the horizon (at the rim where they fall on it)
+        for name, c in _COMPASS:
+            d = (c - view_azimuth_deg + 180.0) % 360.0 - 180.0
+            if abs(d) <= 90.0:
+                x = d / 90.0
+                line([x, x], [-0.03, 0.03], color="black", linewidth=0.8)
+                if abs(d) >= 85.0:
+                    text(math.copysign(1.06, d), 0.0, name, ha="center", va="center", fontsize=7, fontweight="bold")
+                else:
+                    text(x, -0.05, name, ha="center", va="top", fontsize=7, fontweight="bold", bbox=boxed)
+        text(0.0, 1.0, "zenith", dy=3, ha="center", va="bottom", fontsize=6.5)
+        if title:
+            fig.text(12, height_px - 6, title, ha="left", va="top", fontsize=9, transform=px)
+        legend_order = (colours.CLASS_SKY, colours.CLASS_LANDSCAPE, colours.CLASS_GROUND, colours.BLOCKED)
+        entries = [("patch", colours.CLASS_COLOURS[k], colours.CLASS_NAMES[k]) for k in legend_order]
+        entries += [
+            ("line", [{"color": "black", "linewidth": 3.6}, {"color": colours.SUN_PATH_COLOUR, "linewidth": 2.2}],
+             "sun path, seen"),
+            ("line", [{"color": "black", "linewidth": 1.8, "linestyle": (0, (3, 2))},
+                      {"color": colours.SUN_PATH_COLOUR, "linewidth": 0.9, "linestyle": (0, (3, 2))}], "sun path, hidden"),
+            ("line", [{"color": "black", "linewidth": 1.8}, {"color": "white", "linewidth": 0.9, "linestyle": (0, (3, 2))}],
+             f"sun altitude {_fmt_num(min_altitude_deg)}°"),
+        ]
+        _legend(fig, cx + R + 30, cy + R, entries,
+                title=f"looking {_compass_name(view_azimuth_deg)} ({_fmt_num(round(view_azimuth_deg % 360.0, 1))}°)")
+
+    return _render(draw, FISHEYE_SIZE_IN)
+
+
+def _compass_name(azimuth_deg: float) -> str:
+    """The nearest of the 8 compass points."""
+    return _COMPASS[int(math.floor((azimuth_deg % 360.0) / 45.0 + 0.5)) % 8][0]
