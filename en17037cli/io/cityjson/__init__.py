@@ -84,7 +84,7 @@ __all__ = [
 ]
 
 
-@register(".city.json", ".json", ".city.jsonl", ".jsonl")
+@register(".city.json", ".json", ".city.jsonl", ".jsonl", context=True)
 def read_cityjson(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read a CityJSON file or CityJSON Text Sequence into triangles with one part per object and surface type.
 
