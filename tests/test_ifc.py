@@ -197,10 +197,34 @@ def test_validate_lists_storeys_spaces_and_their_windows(ifc4, tmp_path):
     assert "dwelling 'Flat A' (IfcZone 'Flat A'): Kitchen (0.02), Living (0.01)" in out
 
 
-def test_the_ifc_sample_project():
-    path = ROOT / "sample_projects" / "ifc-house" / "project.yaml"
-    r = CliRunner().invoke(cli, ["validate", str(path)])
+def test_the_ifc_sample_project(tmp_path):
+    """The committed sample is what its script writes, byte for byte, and checks every space."""
+    sample = ROOT / "sample_projects" / "ifc-house"
+    assert house(tmp_path / "house.ifc").read_bytes() == (sample / "house.ifc").read_bytes()
+    r = CliRunner().invoke(cli, ["validate", str(sample / "project.yaml")])
     assert r.exit_code == 0 and "4 window(s)" not in r.output
+    report = run(sample / "project.yaml", tmp_path / "out")
+    assert sorted(r["name"] for r in report["rooms"]) == ["Bedroom east (1.02)", "Bedroom west (1.01)", "Kitchen (0.02)",
+                                                          "Living (0.01)"]
+    assert {d["name"] for d in report["dwellings"]} == {"Flat A", "Flat B"}
+    kitchen = next(r for r in report["rooms"] if r["name"] == "Kitchen (0.02)")
+    assert kitchen["sunlight"]["hours"] == 0.0  # a north window (20 deg east of north) between February and March
+
+
+def test_the_apartment_block_generator(tmp_path):
+    """block(): storeys x flats x 3 spaces, one zone per flat, each space bounded by its own window."""
+    from en17037cli.samples.ifc import block
+
+    m = read_model(block(tmp_path / "b.ifc", storeys=2, flats_per_storey=4))
+    assert len(m.spaces) == 2 * 4 * 3 and len({s.zones for s in m.spaces}) == 8
+    assert all(len(s.windows) == 1 for s in m.spaces) and len({s.windows for s in m.spaces}) == 24
+    assert [s.name for s in m.spaces][:3] == ["0.01.1", "0.01.2", "0.01.3"]
+    living = next(s for s in m.spaces if s.name == "0.01.1")
+    import shapely
+
+    assert abs(shapely.Polygon(living.footprint).area - (3.6 - 0.05) * 5.5) < 1e-9  # its partition's half taken off
+    classes = {p.attrs.get("class") for p in m.parts}
+    assert {"IfcRailing", "IfcSlab", "IfcWall", "IfcWindow", "IfcBuildingElementProxy"} <= classes
 
 
 @pytest.mark.xfail(strict=True, reason="a ring frame narrower than a cell slips between corner samples: its "
