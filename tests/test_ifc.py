@@ -186,6 +186,13 @@ def test_ifc_space_errors(ifc4, tmp_path):
     assert r.exit_code == 2 and "rooms[0].name: not with ifc_spaces" in r.output
 
 
+def test_ifc_spaces_on_a_file_without_spaces(tmp_path):
+    p = project(tmp_path, house(tmp_path / "bare.ifc", with_spaces=False))
+    r = CliRunner().invoke(cli, ["validate", str(p)])
+    assert r.exit_code == 2 and r.output.count("\n") == 1
+    assert "rooms[0].ifc_spaces: the model has no IfcSpace; list the rooms with name and floor_z instead" in r.output
+
+
 def test_validate_lists_storeys_spaces_and_their_windows(ifc4, tmp_path):
     r = CliRunner().invoke(cli, ["validate", str(project(tmp_path, ifc4, dwellings={"ifc_zones": "*"}))])
     out = r.output

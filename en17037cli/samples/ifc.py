@@ -276,11 +276,12 @@ HOUSE_SPACES = (
 
 
 def house(path: Path, schema: str = "IFC4", map_conversion: bool = False, true_north_deg: float = 20.0,
-          round_segments: int = 96) -> Path:
+          round_segments: int = 96, with_spaces: bool = True) -> Path:
     """Write the sample house: 10 x 8 m, two storeys of 3 m, 0.3 m walls; ground floor: living
     room (a 3 m south window of two panes split by a mullion, a west window) and kitchen (a north
     window); first floor: two bedrooms (a south window; a round east window of ``round_segments``
-    segments). Zones 'Flat A' (ground floor) and 'Flat B' (first floor)."""
+    segments). Zones 'Flat A' (ground floor) and 'Flat B' (first floor); ``with_spaces=False``
+    leaves out the spaces, their boundaries and the zones (a file exported without rooms)."""
     b = Builder(schema)
     storeys = {"Ground floor": b.storey("Ground floor", 0.0), "First floor": b.storey("First floor", 3.0)}
     b.locate(52.0116, 4.3571, true_north_deg, (85000.0, 446000.0, 10.0) if map_conversion else None)
@@ -301,21 +302,22 @@ def house(path: Path, schema: str = "IFC4", map_conversion: bool = False, true_n
             walls[(s, k)] = b.wall(f"Wall {s}.{k}", st, *p, *q, z, 2.8)
         xp = 6.0 if s == 0 else 5.0
         b.wall(f"Partition {s}", st, xp + 0.05, 0.3, xp + 0.05, 7.7, z, 2.8, thickness=0.1)
-    for name, long_name, storey, (x0, y0, x1, y1), _ in HOUSE_SPACES:
+    for name, long_name, storey, (x0, y0, x1, y1), _ in HOUSE_SPACES if with_spaces else ():
         z = 0.0 if storey == "Ground floor" else 3.0
         spaces[name] = b.space(name, long_name, storeys[storey], [(x0, y0), (x1, y0), (x1, y1), (x0, y1)], z, 2.8)
     b.slab("Roof", storeys["First floor"], foot, 5.8, 0.2, ifc_class="IfcRoof") if schema == "IFC2X3" else \
         b.slab("Roof", storeys["First floor"], foot, 5.8, 0.2, predefined="ROOF")
     S, N, W, E = (0, -1, 0), (0, 1, 0), (-1, 0, 0), (1, 0, 0)
     g, f1 = storeys["Ground floor"], storeys["First floor"]
-    b.window("W living south", g, walls[(0, 0)], (2.5, 0.0, 1.4), S, (1, 0, 0), 3.0, 1.6, panes=2, spaces=[spaces["0.01"]])
-    b.window("W living west", g, walls[(0, 3)], (0.0, 4.0, 1.5), W, (0, -1, 0), 1.2, 1.2, spaces=[spaces["0.01"]])
-    b.window("W kitchen north", g, walls[(0, 2)], (7.75, 8.0, 1.55), N, (-1, 0, 0), 1.5, 1.1, spaces=[spaces["0.02"]])
-    b.window("W bedroom south", f1, walls[(1, 0)], (2.25, 0.0, 4.5), S, (1, 0, 0), 1.5, 1.2, spaces=[spaces["1.01"]])
+    b.window("W living south", g, walls[(0, 0)], (2.5, 0.0, 1.4), S, (1, 0, 0), 3.0, 1.6, panes=2, spaces=[spaces["0.01"]] if with_spaces else [])
+    b.window("W living west", g, walls[(0, 3)], (0.0, 4.0, 1.5), W, (0, -1, 0), 1.2, 1.2, spaces=[spaces["0.01"]] if with_spaces else [])
+    b.window("W kitchen north", g, walls[(0, 2)], (7.75, 8.0, 1.55), N, (-1, 0, 0), 1.5, 1.1, spaces=[spaces["0.02"]] if with_spaces else [])
+    b.window("W bedroom south", f1, walls[(1, 0)], (2.25, 0.0, 4.5), S, (1, 0, 0), 1.5, 1.2, spaces=[spaces["1.01"]] if with_spaces else [])
     b.window("W bedroom round", f1, walls[(1, 1)], (10.0, 4.0, 4.6), E, (0, 1, 0), 1.0, 1.0, round_segments=round_segments,
-             spaces=[spaces["1.02"]])
-    b.zone("Flat A", [spaces["0.01"], spaces["0.02"]])
-    b.zone("Flat B", [spaces["1.01"], spaces["1.02"]])
+             spaces=[spaces["1.02"]] if with_spaces else [])
+    if with_spaces:
+        b.zone("Flat A", [spaces["0.01"], spaces["0.02"]])
+        b.zone("Flat B", [spaces["1.01"], spaces["1.02"]])
     return b.write(path)
 
 
