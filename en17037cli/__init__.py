@@ -23,26 +23,29 @@ def load_project(path, overrides=()):
     return load(path, list(overrides))
 
 
-def run(project, only: str | None = None, progress=None):
+def run(project, only: str | None = None, progress=None, pictures: bool = False):
     """Run the project's checks (:func:`en17037cli.pipeline.run`); return a
-    :class:`~en17037cli.pipeline.RunResult`."""
+    :class:`~en17037cli.pipeline.RunResult`. ``pictures=True`` also traces what the report's
+    pictures need (fisheyes), so that :func:`write_reports` draws them."""
     from en17037cli.pipeline import run as run_project
 
-    return run_project(project, only, progress)
+    return run_project(project, only, progress, pictures=pictures)
 
 
 def write_reports(result, out_dir) -> dict:
     """Build the report document of a :class:`~en17037cli.pipeline.RunResult` and write every report
-    file into ``out_dir`` as one set (only replacing reports written there for the same project);
-    return the document."""
+    file into ``out_dir`` as one set (only replacing reports written there for the same project),
+    with the pictures when the run traced them; return the document."""
     from pathlib import Path
 
     from en17037cli.report.document import build_report
+    from en17037cli.report.figures import render_figures
     from en17037cli.report.folder import check_folder
     from en17037cli.report.write import WRITERS
     from en17037cli.report.write import write_reports as write
 
     check_folder(Path(out_dir), result.project.path, WRITERS)
+    figures = render_figures(result) if any(r.illustrations for r in result.rooms) else []
     report = build_report(result)
-    write(report, Path(out_dir), result.project.path)
+    write(report, Path(out_dir), result.project.path, figures)
     return report

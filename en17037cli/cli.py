@@ -128,13 +128,15 @@ def cli():
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option
+@click.option("--no-plots", is_flag=True, help="No pictures: report.html and report.md without maps, fisheyes or charts.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bars and no summary.")
-def check(project_file: Path, out_dir, only, overrides, max_points, quiet):
+def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, quiet):
     """Run the checks of PROJECT_FILE and write the reports."""
     from en17037cli import pipeline
     from en17037cli.preflight import MAX_POINTS
     from en17037cli.project import load_project
     from en17037cli.report.document import build_report
+    from en17037cli.report.figures import render_figures
     from en17037cli.report.folder import check_folder, default_folder
     from en17037cli.report.write import WRITERS, write_reports
 
@@ -146,11 +148,12 @@ def check(project_file: Path, out_dir, only, overrides, max_points, quiet):
         bar, progress = _progress_factory(not quiet and sys.stderr.isatty())
         if bar is not None:
             with bar:
-                result = pipeline.run(project, only, progress, max_points or MAX_POINTS)
+                result = pipeline.run(project, only, progress, max_points or MAX_POINTS, pictures=not no_plots)
         else:
-            result = pipeline.run(project, only, max_points=max_points or MAX_POINTS)
+            result = pipeline.run(project, only, max_points=max_points or MAX_POINTS, pictures=not no_plots)
+        figures = [] if no_plots else render_figures(result)
         report = build_report(result)
-        write_reports(report, out, project.path)
+        write_reports(report, out, project.path, figures)
         return report
 
     _exit_on_sigterm()
@@ -193,7 +196,8 @@ def _summary(report: dict, out: Path):
                       f"{s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass view")
     for w in report["warnings"]:
         console.print(f"warning: {w}", style="yellow", highlight=False)
-    console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.md, report.json, view_points.csv, sunlight_days.csv)")
+    console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.html, report.md, report.json, view_points.csv, "
+                  "sunlight_days.csv)")
 
 
 @cli.command()

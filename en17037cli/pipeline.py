@@ -43,6 +43,7 @@ class RoomResult:
 
     room: Room
     results: dict[str, object]
+    illustrations: dict[str, object] = field(default_factory=dict)  # criterion -> picture data, when asked
 
     def assessed(self, criterion: str):
         """The criterion's typed result, or None where it did not assess the room."""
@@ -168,7 +169,7 @@ def _plan(c: Criterion, ctx: Context, room: Room):
 
 
 def run(project: Project, only: str | None = None, progress: Progress | None = None,
-        max_points: int = MAX_POINTS) -> RunResult:
+        max_points: int = MAX_POINTS, pictures: bool = False) -> RunResult:
     """Run the checks of ``project``.
 
     Parameters
@@ -176,6 +177,7 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
     only : a criterion name (``view``, ``sunlight``), or None for every criterion the project asks for
     progress : optional progress-bar factory (see :data:`Progress`)
     max_points : the viewpoint budget (see :func:`~en17037cli.preflight.check_budget`)
+    pictures : also trace what the report's pictures need (:meth:`Criterion.illustrate`), stage ``pictures``
     """
     timer = Timer()
     scene = build_scene(project)
@@ -194,9 +196,17 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
             advance = progress(size, c.name) if progress else None
             results[c.name] = {room.name: _assess(c, ctx, room, plans[room.name], advance) for room in scene.rooms}
             timer.stage(c.name)
-    rooms = [RoomResult(room, {name: results.get(name, {}).get(room.name) for name in CRITERIA}) for room in scene.rooms]
+        rooms = [RoomResult(room, {name: results.get(name, {}).get(room.name) for name in CRITERIA}) for room in scene.rooms]
+        rays = engine.rays_traced  # the criteria's rays; the pictures' are not part of the check
+        if pictures:
+            for r in rooms:
+                for c in chosen:
+                    res = r.assessed(c.name)
+                    if res is not None:
+                        r.illustrations[c.name] = c.illustrate(ctx, r.room, res)
+            timer.stage("pictures")
     by_name = {r.room.name: r for r in rooms}
     dwellings = [assess_dwelling(d, by_name, project.requirements.sunlight_rooms, project.thresholds) for d in checks.dwellings]
     return RunResult(project=project, scene=scene, rooms=rooms, status=overall_status(rooms, dwellings), dwellings=dwellings,
-                     checks_run=[c.name for c in chosen], rays_traced=engine.rays_traced, context=ctx,
+                     checks_run=[c.name for c in chosen], rays_traced=rays, context=ctx,
                      warnings=checks.warnings, timer=timer)

@@ -238,3 +238,67 @@ def sunlight_rooms_pass(room_passes: Sequence[bool], rule: str) -> bool:
     if not room_passes:
         return True
     return all(room_passes) if rule == "all" else any(room_passes)
+
+
+@dataclass(frozen=True)
+class Limit:
+    """What limits a room's level in one check, and by how much.
+
+    level : the level the margin is measured to (:func:`target_level`)
+    criterion : ``horizontal_sight_angle``, ``outside_distance``, ``layers`` (view) or
+        ``sunlight_hours``
+    value : share of viewpoints reaching ``level`` (view, in [0, 1]) or hours on the assessed day
+        (sunlight, [h])
+    needed : the share the standard asks (``view.area_fraction``) or the level's threshold [h]
+    eye_height_m : the eye height whose points limit the view [m]; None for sunlight
+    """
+
+    level: str
+    criterion: str
+    value: float
+    needed: float
+    eye_height_m: float | None = None
+
+    @property
+    def margin(self) -> float:
+        """``value - needed``: negative when the level is missed (share, or [h])."""
+        return self.value - self.needed
+
+
+def target_level(reached: int, required: str) -> int:
+    """The level a margin is measured to: the required level where one is required (how far
+    above or below it the room is), else the level above the one reached (what keeps the room
+    from it), ``high`` once high is reached."""
+    if required != "none":
+        return level_index(required)
+    return min(int(reached) + 1, len(LEVELS) - 1)
+
+
+def view_limit(eye_heights: Sequence[tuple[float, dict[str, dict[str, float]]]], reached: int, required: str,
+               area_fraction: float) -> Limit:
+    """The criterion and eye height with the smallest share of viewpoints reaching the target level.
+
+    Clause 5.2: a room's view level is the lowest over its criteria and eye heights, each judged
+    by the share of the utilised area (of its viewpoints) reaching it, ``area_fraction`` needed.
+
+    Parameters
+    ----------
+    eye_heights : (eye height [m], criterion -> level name -> share in [0, 1]) per eye height,
+        criteria of :data:`VIEW_CRITERIA`
+    reached : the room's view level index; required : the level required ("none" if none)
+    area_fraction : share of the viewpoints that must reach a level, in (0, 1]
+    """
+    t = LEVELS[target_level(reached, required)]
+    cands = [(shares[c][t], i, k, eye, c) for i, (eye, shares) in enumerate(eye_heights)
+             for k, c in enumerate(VIEW_CRITERIA) if c in shares]
+    if not cands:
+        return Limit(t, "", 0.0, area_fraction, None)
+    share, _, _, eye, c = min(cands)  # ties: the lower eye height, then the order of Table A.5
+    return Limit(t, c, share, area_fraction, eye)
+
+
+def sunlight_limit(hours: float, reached: int, required: str, thresholds: LevelThresholds) -> Limit:
+    """Hours of sunlight on the assessed day against the threshold of the target level (clause 5.3,
+    Table A.6)."""
+    t = target_level(reached, required)
+    return Limit(LEVELS[t], "sunlight_hours", float(hours), thresholds.values()[t - 1] if t > 0 else 0.0)

@@ -55,7 +55,7 @@ def test_check_writes_valid_reports_and_exit_code(project, tmp_path):
     assert len(room["sunlight"]["days"]) == 3
     assert report["inputs"]["model_files"]["model.obj"].startswith("sha256:")
     md = (out / "report.md").read_text()
-    assert "| box room | **view out (5.2)** | **" + room["view"]["level"] + "** | high | FAIL |" in md
+    assert "| box room | view out (5.2) | " + room["view"]["level"] + " | high | **FAIL** | outside distance: 0 % of points reach high" in md
     assert room["view"]["eye_heights"][0]["level_by_criterion"]["outside_distance"] == "medium"
     # requiring only 'minimum' makes it pass: exit 0
     r = invoke("check", project, "--out", out, "--quiet", *FAST, "--set", "requirements.view=minimum")
@@ -69,7 +69,8 @@ def test_reports_are_byte_identical_apart_from_timings(project, tmp_path):
         invoke("check", project, "--out", out, "--quiet", *FAST)
         report = json.loads((out / "report.json").read_text())
         report.pop("timings_s")
-        texts.append((json.dumps(report), *((out / n).read_text() for n in REPORT_FILES[1:])))
+        texts.append((json.dumps(report), *((out / n).read_text() for n in REPORT_FILES[1:]),
+                      *(p.read_bytes() for p in sorted((out / "figures").iterdir()))))
     assert texts[0] == texts[1]
 
 
@@ -212,4 +213,4 @@ def test_seed_office_view_runs_at_both_eye_heights(tmp_path):
     # counted, not silent: 90 zero-area faces of the context (ear-clipping slivers of self-intersecting n-gons)
     assert "90 degenerate, NaN or infinite faces dropped" in report["warnings"]
     assert any(re.fullmatch(r"[1-9]\d* degenerate, NaN or infinite faces dropped", w) for w in report["warnings"])
-    assert "| office | **view out (5.2)** |" in (out / "report.md").read_text()
+    assert "| office | view out (5.2) | medium | medium | **PASS** | sight angle: 78 % of points reach medium at 1.2 m eye height, 75 % needed |" in (out / "report.md").read_text()

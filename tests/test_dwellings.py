@@ -53,8 +53,8 @@ def test_two_flats_judged_flat_by_flat(tmp_path):
     assert report["summary"] == {"rooms": 4, "rooms_view_required": 0, "rooms_view_pass": 0, "dwellings": 3,
                                  "dwellings_sunlight_required": 3, "dwellings_sunlight_pass": 2}
     md = (tmp_path / "o" / "report.md").read_text()
-    assert "Sunlight: 2 of 3 dwellings pass (rule: any room of a dwelling)." in md
-    assert "| Flat B | 1.N02 | best: 1.N02, 1.5 h short | 0.0 | minimum | FAIL |" in md
+    assert "Sunlight: 2 of 3 dwellings pass (rule: one main room of a dwelling)." in md
+    assert "| Flat B | 1.N02 | best: 1.N02, 1 h 30 min short | 0 min | minimum | FAIL |" in md
 
 
 def test_the_same_two_rooms_as_one_dwelling_pass_and_main_rooms_can_exclude_the_sunny_one(tmp_path):

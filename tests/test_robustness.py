@@ -110,7 +110,7 @@ def test_a_required_check_that_did_not_run_fails(tmp_path):
     assert report["rooms"][0]["view"] == {"level": None, "required": "medium", "status": "not_assessed",
                                           "reason": "the project has no 'view' section"}
     assert report["status"] == "fail" and report["rooms"][0]["status"] == "fail"
-    assert "| box room | **view out (5.2)** | | medium | NOT ASSESSED: the project has no 'view' section |" in (out / "report.md").read_text()
+    assert "| box room | view out (5.2) | - | medium | **NOT ASSESSED** | the project has no 'view' section |" in (out / "report.md").read_text()
     r = invoke("check", path, "--out", out, "-q", "--set", "requirements.view=none")
     assert r.exit_code == 0 and json.loads((out / "report.json").read_text())["rooms"][0]["view"] is None
 
@@ -370,9 +370,13 @@ def test_reports_replace_only_our_own_and_another_project_cannot_take_the_folder
     (out / "notes.md").write_text("mine")
     assert invoke("check", a, "--out", out, "-q").exit_code == 0
     manifest = json.loads((out / MANIFEST).read_text())
-    assert manifest == {"tool": "en17037cli", "project": str(a.resolve()), "files": sorted(REPORT_FILES)}
+    figures = [f"figures/01-box-room-view-1.2m-{k}.png" for k in ("sight-angle", "distance", "layers", "level")]
+    figures += ["figures/01-box-room-sunlight-hours.png", "figures/01-box-room-sunlight-fisheye-1.png"]
+    assert manifest == {"tool": "en17037cli", "project": str(a.resolve()), "files": sorted([*REPORT_FILES, *figures])}
     assert invoke("check", a, "--out", out, "-q").exit_code == 0  # the same project replaces its reports
-    one_line_error(invoke("check", b, "--out", out), f"report.json there was written by project {a.resolve()}")
+    assert invoke("check", a, "--out", out, "-q", "--no-plots").exit_code == 0  # ... and its pictures go with them
+    assert sorted(p.name for p in out.iterdir()) == sorted([MANIFEST, "notes.md", *REPORT_FILES])
+    one_line_error(invoke("check", b, "--out", out), f"report.html there was written by project {a.resolve()}")
     assert (out / "notes.md").read_text() == "mine"
     assert not [p for p in out.parent.iterdir() if p.name.startswith(TMP_PREFIX)]
 

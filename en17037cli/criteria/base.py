@@ -94,3 +94,8 @@ class Criterion(ABC):
     @abstractmethod
     def report(self, ctx: Context, room: Room, result) -> dict:
         """The criterion's section of a room in report.json."""
+
+    def illustrate(self, ctx: Context, room: Room, result) -> Any:
+        """What the report's pictures need of this result beyond it, traced while the ray engine
+        is open (fisheye classes, sun paths), or None. Runs only when pictures are asked for."""
+        return None

@@ -101,10 +101,14 @@ def commit(folder: Path, project_file: Path, contents: dict[str, bytes]) -> list
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=TMP_PREFIX, dir=folder.parent))
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)  # a new report folder gets the user's usual mode, not mkdtemp's 0700
     except OSError as exc:
         raise InputError(f"--out {folder}: cannot write there ({_problem(exc)}); choose another report folder") from None
     try:
         for name, blob in data.items():
+            (tmp / name).parent.mkdir(parents=True, exist_ok=True)  # figures/
             with open(tmp / name, "wb") as fh:
                 fh.write(blob)
                 fh.flush()
@@ -117,7 +121,11 @@ def commit(folder: Path, project_file: Path, contents: dict[str, bytes]) -> list
                 for name in sorted(set(old["files"]) - set(contents)) if old else ():
                     with contextlib.suppress(FileNotFoundError):
                         (folder / name).unlink()  # a report of ours the new set does not have
+                    with contextlib.suppress(OSError):
+                        if (folder / name).parent != folder:
+                            (folder / name).parent.rmdir()  # its sub-folder, once empty
                 for name in data:
+                    (folder / name).parent.mkdir(parents=True, exist_ok=True)
                     os.replace(tmp / name, folder / name)
     except OSError as exc:
         if exc.errno in (errno.ENOSPC, errno.EACCES, errno.EROFS, errno.EPERM, errno.ENOTDIR, errno.EEXIST):

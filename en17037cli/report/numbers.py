@@ -38,12 +38,14 @@ def fmt_duration(hours: float) -> str:
     Parameters
     ----------
     hours : float [h]
-        NaN or infinite gives ``"n/a"``; a negative duration keeps its sign.
+        None, NaN or infinite gives ``"n/a"``; a negative duration keeps its sign.
 
     Returns
     -------
     str
     """
+    if hours is None:
+        return "n/a"
     h = float(hours)
     if not math.isfinite(h):
         return "n/a"
@@ -58,3 +60,13 @@ def fmt_hm(hours: float) -> str:
     """A finite duration [h] as ``"h:mm"`` rounded to the minute, like :func:`fmt_duration`: ``"5:52"``, ``"-0:30"``."""
     sign, total = _minutes(hours)
     return f"{sign}{total // 60}:{total % 60:02d}"
+
+
+def json_limit(limit) -> dict:
+    """A :class:`~en17037cli.standard.Limit` in report.json (shares and hours to 4 decimals)."""
+    digits = 4
+    out = {"level": limit.level, "criterion": limit.criterion, "value": json_number(limit.value, digits),
+           "needed": json_number(limit.needed, digits), "margin": json_number(limit.margin, digits)}
+    if limit.eye_height_m is not None:
+        out["eye_height_m"] = json_number(limit.eye_height_m, 3)
+    return out

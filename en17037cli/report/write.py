@@ -1,4 +1,4 @@
-"""Writers of the report files, in a registry, and writing them all as one set."""
+"""Writers of the report files, in a registry, and writing them all as one set (with the pictures)."""
 from __future__ import annotations
 
 import json
@@ -6,26 +6,30 @@ from collections.abc import Callable
 from pathlib import Path
 
 from en17037cli.report.folder import commit
+from en17037cli.report.html import report_html
 from en17037cli.report.markdown import report_markdown
 from en17037cli.report.tables import sunlight_days_csv, view_points_csv
 
 
-def report_json(report: dict) -> str:
+def report_json(report: dict, figures=()) -> str:
     """``report.json``: the document, indented, UTF-8, no NaN."""
     return json.dumps(report, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
 
 
-#: file name -> writer (document -> text), in writing order
-WRITERS: dict[str, Callable[[dict], str]] = {
+#: file name -> writer (document, pictures -> text), in writing order; the pictures
+#: (:class:`~en17037cli.report.figures.Figure`) are written beside them under ``figures/``
+WRITERS: dict[str, Callable[..., str]] = {
     "report.json": report_json,
-    "view_points.csv": view_points_csv,
-    "sunlight_days.csv": sunlight_days_csv,
+    "view_points.csv": lambda report, figures=(): view_points_csv(report),
+    "sunlight_days.csv": lambda report, figures=(): sunlight_days_csv(report),
     "report.md": report_markdown,
+    "report.html": report_html,
 }
 REPORT_FILES = tuple(WRITERS)
 
 
-def write_reports(report: dict, out_dir: Path, project_file: Path) -> list[Path]:
-    """Write every report file of ``report`` into ``out_dir`` as one set (see :mod:`.folder`)."""
-    contents = {name: writer(report).encode("utf-8") for name, writer in WRITERS.items()}
+def write_reports(report: dict, out_dir: Path, project_file: Path, figures=()) -> list[Path]:
+    """Write every report file of ``report`` and its pictures into ``out_dir`` as one set (see :mod:`.folder`)."""
+    contents = {name: writer(report, figures).encode("utf-8") for name, writer in WRITERS.items()}
+    contents |= {f.name: f.png for f in figures}
     return commit(Path(out_dir), Path(project_file), contents)

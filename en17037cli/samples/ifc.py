@@ -61,14 +61,13 @@ class Builder:
         self.styles["frame"] = self.surface_style("Frame", (0.9, 0.9, 0.9), 0.0)
 
     def _owner(self):
-        import ifcopenshell.api.owner.settings as owner
-
+        """The user and application of the owner histories IFC2X3 needs. ifcopenshell.api finds them
+        in the file (its default ``owner.settings``); nothing global is patched, so an IFC4 file
+        written later in the same process has no owner history."""
         person = self.f.createIfcPerson(None, "Sample", None)
         org = self.f.createIfcOrganization(None, "en17037cli", None)
-        user = self.f.createIfcPersonAndOrganization(person, org)
-        app = self.f.createIfcApplication(org, "0.1", "en17037cli samples", "en17037cli")
-        owner.get_user = lambda f: user
-        owner.get_application = lambda f: app
+        self.f.createIfcPersonAndOrganization(person, org)
+        self.f.createIfcApplication(org, "0.1", "en17037cli samples", "en17037cli")
 
     # --- entities ---------------------------------------------------------------------------
     def entity(self, ifc_class: str, name: str, **kw):

@@ -10,6 +10,7 @@ import zoneinfo
 
 from en17037cli.criteria.base import Context, Criterion
 from en17037cli.criteria.sunlight.assess import assess_room, check_sun_points
+from en17037cli.criteria.sunlight.pictures import window_fisheyes
 from en17037cli.criteria.sunlight.point_p import point_p_height
 from en17037cli.criteria.sunlight.report import sunlight_section
 from en17037cli.criteria.sunlight.results import SunlightResult
@@ -63,9 +64,16 @@ class SunlightCriterion(Criterion):
             progress(1)
         return result
 
+    def illustrate(self, ctx: Context, room, result: SunlightResult):
+        """Per window with a point P: the fisheye and the sun paths (:mod:`.pictures`)."""
+        settings, location = self._settings(ctx)
+        sun_path = ctx.cache.setdefault("sun_path", SunPath(location, settings))
+        return window_fisheyes(ctx.engine, ctx.scene, room, result, settings, location, sun_path)
+
     def level(self, result: SunlightResult) -> int:
         return result.level
 
     def report(self, ctx: Context, room, result: SunlightResult) -> dict:
         settings, location = self._settings(ctx)
-        return sunlight_section(ctx.scene, room, result, self.required(room), settings, zoneinfo.ZoneInfo(location.timezone))
+        return sunlight_section(ctx.scene, room, result, self.required(room), settings, zoneinfo.ZoneInfo(location.timezone),
+                                ctx.project.thresholds.sunlight_hours)

@@ -58,13 +58,22 @@ def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettin
     step = settings.timestep_min * 60.0
     intervals, err_s = visible_intervals(vis, t0, t1, step, settings.tolerance_s)
     hours = np.array([float(np.sum(iv[:, 1] - iv[:, 0])) / 3600.0 for iv in intervals])
+    window_hours = np.full((len(room.windows), len(dates)), np.nan)
+    if ok.sum() == 1:
+        window_hours[ok] = hours
+    else:  # each window alone: its own intervals (for the report; the room's hours are their union)
+        for i in np.flatnonzero(ok):  # one pass per window with a point P
+            one = SunVisibility(engine, pts[i:i + 1], normals[i:i + 1], room_window_group(room), location, settings,
+                                scene.true_north_deg, sun_path)
+            iv, _ = visible_intervals(one, t0, t1, step, settings.tolerance_s)
+            window_hours[i] = [float(np.sum(x[:, 1] - x[:, 0])) / 3600.0 for x in iv]
     k = assessed_day(hours, dates, settings.date)
     err_h = err_s / 3600.0
     level = int(standard.level_from_value([hours[k]], thresholds.sunlight_hours)[0])
     near = bool(standard.near_threshold([hours[k]], [err_h[k]], thresholds.sunlight_hours)[0])
     return SunlightResult(points_local=pts, reveal_depths_m=depths, dates=dates, hours=hours, intervals=intervals,
                           error_h=err_h, assessed_index=k, level=level, near_threshold=near, timestep_s=step, notes=notes,
-                          window_problems=problems)
+                          window_problems=problems, window_hours=window_hours)
 
 
 def check_sun_points(room: Room) -> None:

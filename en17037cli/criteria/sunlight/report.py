@@ -6,7 +6,7 @@ import numpy as np
 from en17037cli import standard
 from en17037cli.criteria.sunlight.results import SunlightResult
 from en17037cli.project.settings import SunSettings
-from en17037cli.report.numbers import iso_time, json_number, json_xyz
+from en17037cli.report.numbers import iso_time, json_limit, json_number, json_xyz
 from en17037cli.scene.model import Room, Scene
 from en17037cli.standard import LEVELS
 
@@ -16,16 +16,18 @@ SUN_METHOD = ("sun position by NREL SPA (Reda and Andreas 2004); visibility samp
               "shorter than the timestep may be missed")
 
 
-def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: str, settings: SunSettings, tz) -> dict:
+def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: str, settings: SunSettings, tz,
+                     thresholds: standard.LevelThresholds) -> dict:
     """The ``sunlight`` section of a room in report.json (see ``schemas/report.schema.json``)."""
     k = res.assessed_index
     level = LEVELS[res.level]
     windows = []
     pw = scene.to_world(res.points_local)
-    for w, p, depth, problem in zip(room.windows, pw, res.reveal_depths_m, res.window_problems):
+    for i, (w, p, depth, problem) in enumerate(zip(room.windows, pw, res.reveal_depths_m, res.window_problems)):
         entry = {"name": w.name, "point_p_m": None if problem else json_xyz(p),
                  "reveal_depth_m": None if depth is None else json_number(depth, 4),
-                 "point_p_source": "explicit" if depth is None and not problem else "EN 17037 A.3 rule"}
+                 "point_p_source": "explicit" if depth is None and not problem else "EN 17037 A.3 rule",
+                 "hours": None if problem or res.window_hours is None else json_number(res.window_hours[i, k], 4)}
         if problem:
             entry |= {"status": "not_assessable", "reason": problem}
         windows.append(entry)
@@ -33,10 +35,12 @@ def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: st
     for d, h, iv, e in zip(res.dates, res.hours, res.intervals, res.error_h):
         days.append({"date": d.isoformat(), "hours": json_number(h, 4), "error_h": json_number(e, 5),
                      "intervals": [[iso_time(a, tz), iso_time(b, tz)] for a, b in iv]})
+    limit = standard.sunlight_limit(res.hours[k], res.level, required, thresholds)
     return {
         "level": level,
         "required": required,
         "status": standard.status(level, required),
+        "limiting": json_limit(limit),
         "assessed_date": res.dates[k].isoformat(),
         "hours": json_number(res.hours[k], 4),
         "near_threshold": res.near_threshold,

@@ -17,6 +17,8 @@ class SunlightResult:
     error_h : (d,) float [h], error estimate of each day's hours
     assessed_index : the day judged (``sunlight.date``); level : level index reached that day
     window_problems : per window, why it has no point P (its P is NaN and it is left out), or None
+    window_hours : (k, d) float [h], each window's hours alone (P through that window only), NaN
+        where it has no point P
     """
 
     points_local: np.ndarray
@@ -31,3 +33,4 @@ class SunlightResult:
     timestep_s: float
     notes: list[str] = field(default_factory=list)
     window_problems: list[str | None] = field(default_factory=list)
+    window_hours: np.ndarray | None = None

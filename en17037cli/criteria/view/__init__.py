@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from en17037cli.criteria.base import Context, Criterion
 from en17037cli.criteria.view.assess import assess_room
+from en17037cli.criteria.view.pictures import room_plan
 from en17037cli.criteria.view.rays import ViewRays
 from en17037cli.criteria.view.report import view_section
 from en17037cli.criteria.view.results import ViewResult
@@ -57,6 +58,10 @@ class ViewCriterion(Criterion):
         if "view_rays" not in ctx.cache:
             ctx.cache["view_rays"] = ViewRays(ctx.engine, ctx.scene)
         return assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress)
+
+    def illustrate(self, ctx: Context, room, result: ViewResult):
+        """The room in plan for the maps (:mod:`.pictures`); the values are in ``result``."""
+        return room_plan(ctx.scene, room, self._settings(ctx))
 
     def level(self, result: ViewResult) -> int:
         return result.level

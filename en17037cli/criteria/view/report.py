@@ -6,7 +6,7 @@ import numpy as np
 from en17037cli import standard
 from en17037cli.criteria.view.results import LAYER_NAMES, ViewResult
 from en17037cli.project.settings import ViewSettings
-from en17037cli.report.numbers import json_number, json_xyz
+from en17037cli.report.numbers import json_limit, json_number, json_xyz
 from en17037cli.scene.model import Scene
 from en17037cli.standard import LEVELS, VIEW_CRITERIA
 
@@ -69,10 +69,13 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
             "points": points,
         })
     level = LEVELS[res.level]
+    limit = standard.view_limit([(e.eye_height_m, e.share_by_level) for e in res.eye_heights], res.level, required,
+                                settings.area_fraction)
     return {
         "level": level,
         "required": required,
         "status": standard.status(level, required),
+        "limiting": json_limit(limit),
         "error_estimates": {
             "max_solid_angle_error_sr": json_number(err["solid_angle_sr"]),
             "max_horizontal_sight_angle_error_deg": json_number(err["horizontal_sight_angle_deg"], 6),
