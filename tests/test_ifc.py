@@ -166,8 +166,6 @@ def test_the_same_house_as_obj_with_rooms_by_hand_gives_the_same_answers(ifc4, t
                 d = abs(pa["solid_angle_sr"][k] - pb["solid_angle_sr"][k])
                 if same_windows:
                     assert d <= 1e-6, (name, k)
-                elif name == "Bedroom east (1.02)":  # see test_round_frame_within_the_estimate below
-                    assert d <= 0.01, (name, k)
                 else:
                     # the estimate is half the solid angle of the cells still mixed, so each value is within
                     # twice its estimate of the exact one
@@ -234,11 +232,12 @@ def test_the_apartment_block_generator(tmp_path):
     assert {"IfcRailing", "IfcSlab", "IfcWall", "IfcWindow", "IfcBuildingElementProxy"} <= classes
 
 
-@pytest.mark.xfail(strict=True, reason="a ring frame narrower than a cell slips between corner samples: its "
-                   "cells are not counted as mixed, so the estimate is up to 3x too small (being fixed)")
 def test_round_frame_within_the_estimate(ifc4, tmp_path):
     """The round window's solid angles at the fast settings against the same at 0.25 deg and five
-    refinements: each within twice its estimate (plus the fine run's own)."""
+    refinements: each within twice its estimate (plus the fine run's own). The ring frame (96
+    segments, 6 cm) is narrower than a 2 deg cell and not axis-aligned: the cells its edges' images
+    cross count as mixed, and probes beside them see the crescent between its two rims from a
+    grazing point (before: sky up to 0.003 sr too large with an estimate of 0.0009 sr)."""
     fine = dict(FAST_VIEW, angular_resolution_deg=0.25, refine_levels=5, solid_angle_rel_tolerance=1e-4,
                 solid_angle_abs_tolerance_sr=1e-7)
     rooms = [{"ifc_spaces": "1.02"}]

@@ -25,13 +25,15 @@ SIZING_BLOCK = 1024
 
 
 def cells_per_point(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> np.ndarray:
-    """Base cells of each viewpoint [-]: uniform lines and frame lines of each window's grid, multiplied."""
+    """Base cells of each viewpoint [-]: uniform lines and frame lines of each window's grid, multiplied,
+    plus one per frame edge of each window it sees (their images are traced per viewpoint)."""
     out = np.zeros(len(points))
+    edges = np.array([0 if f.frame_edges is None else len(f.frame_edges) for f in rg.frames], dtype=float)
     for a in range(0, len(points), SIZING_BLOCK):  # blocks of points: bounded memory
-        P = patches(rg, points[a:a + SIZING_BLOCK], np.radians(settings.angular_resolution_deg))
+        P = patches(rg, points[a:a + SIZING_BLOCK], np.radians(settings.angular_resolution_deg), with_edges=False)
         fa = np.bincount(P.frame_pt[0], minlength=len(P))
         fb = np.bincount(P.frame_pt[1], minlength=len(P))
-        out[a:a + SIZING_BLOCK] = np.bincount(P.pt, (P.na + fa) * (P.nb + fb), len(points[a:a + SIZING_BLOCK]))
+        out[a:a + SIZING_BLOCK] = np.bincount(P.pt, (P.na + fa) * (P.nb + fb) + edges[P.win], len(points[a:a + SIZING_BLOCK]))
     return out
 
 

@@ -36,6 +36,10 @@ class WindowFrame:
     face_ids: np.ndarray
     #: (e, 3) float [m]: vertices (x, y, s) of the window's frame, s along the outward normal
     frame_xys: np.ndarray = None
+    #: (k, 2, 3) float [m]: edges of the frame's faces that may bound what it hides (:func:`frame_edges`)
+    frame_edges: np.ndarray = None
+    #: (k, 2, 3) float [m]: the vertices opposite each edge in its two faces, NaN for an edge of one face
+    frame_edge_opposite: np.ndarray = None
     _tree: object = None
     _outline: object = None
 
@@ -54,6 +58,13 @@ class WindowFrame:
         import shapely
 
         return shapely.intersects_xy(self._outline_index()[0], x, y)
+
+    def meets_glazing(self, x0, y0, x1, y1) -> np.ndarray:
+        """Whether segments (plane coordinates [m] of their ends) meet the glazing's outline polygon."""
+        import shapely
+
+        lines = shapely.linestrings(np.stack([np.column_stack([x0, y0]), np.column_stack([x1, y1])], axis=1))
+        return shapely.intersects(self._outline_index()[0], lines)
 
     def classify_boxes(self, x0, x1, y0, y1) -> tuple[np.ndarray, np.ndarray]:
         """Where axis-aligned boxes (plane coordinates [m]) lie against the glazing's outline.
@@ -121,12 +132,11 @@ def window_frame(window, index: int) -> WindowFrame:
                        bool(abs(poly.area - box) <= 1e-9 * box), np.asarray(window.face_ids))
 
 
-def frame_vertices(frame: WindowFrame, vertices: np.ndarray, triangles: np.ndarray, depth_m: float) -> np.ndarray:
-    """Vertices of the opaque faces that frame a window: mullions, transoms, frames, reveals.
+def frame_faces(frame: WindowFrame, vertices: np.ndarray, triangles: np.ndarray, depth_m: float) -> np.ndarray:
+    """The opaque faces that frame a window: mullions, transoms, frames, reveals.
 
     A face is part of the frame when all its vertices lie within ``depth_m`` of the glazing
-    plane and its extent over the plane overlaps the window's. The view engine draws a grid
-    line through the image of each of these vertices.
+    plane and its extent over the plane overlaps the window's.
 
     Parameters
     ----------
@@ -137,15 +147,87 @@ def frame_vertices(frame: WindowFrame, vertices: np.ndarray, triangles: np.ndarr
 
     Returns
     -------
-    (e, 3) float [m], unique (x, y, s) in the window's (u, v, n) frame
+    (f, 3, 3) float [m], the faces' corners (x, y, s) in the window's (u, v, n) frame
     """
     s_v = (vertices - frame.origin) @ frame.n  # per vertex first: no (m, 3, 3) copy of a large scene
     tri = triangles[np.all(np.abs(s_v[triangles]) <= depth_m, axis=1)]
     rel = vertices[tri] - frame.origin
     s, x, y = rel @ frame.n, rel @ frame.u, rel @ frame.v
     over = (x.min(axis=1) < frame.xmax) & (x.max(axis=1) > frame.xmin) & (y.min(axis=1) < frame.ymax) & (y.max(axis=1) > frame.ymin)
-    xys = np.stack([x[over], y[over], s[over]], axis=-1).reshape(-1, 3)
-    return np.unique(np.round(xys, 9), axis=0)
+    return np.stack([x[over], y[over], s[over]], axis=-1)
+
+
+def frame_vertices(faces: np.ndarray) -> np.ndarray:
+    """Unique corners (x, y, s) [m] of the frame's faces (:func:`frame_faces`, (f, 3, 3) [m]), rounded
+    to 1 nm: the view engine draws a grid line through the image of each. Returns (e, 3) float [m]."""
+    return np.unique(np.round(faces.reshape(-1, 3), 9), axis=0)
+
+
+#: Two faces sharing an edge whose far corners lie closer than this to each other's plane, on
+#: both sides of the edge, are one flat surface: the edge between them hides nothing [m].
+COPLANAR_M = 1e-6
+
+
+def frame_edges(frame: WindowFrame, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edges of the frame's faces that may bound what the frame hides, for the view engine to
+    count the cells their images cross as mixed.
+
+    Left out: edges shared by two coplanar faces of one flat surface (a quad's diagonal, the
+    seams of a triangulated ring or wall), and edges in the glazing plane that do not enter the
+    glazing's outline (the wall around the opening, the opaque part of an opening beside a pane
+    that is not a rectangle: a view through the glazing meets its plane inside the outline, and
+    the cells' weights are clipped to the outline exactly). Corners are matched to 1 nm.
+
+    Parameters
+    ----------
+    faces : (f, 3, 3) float [m], (x, y, s) in the window's frame (:func:`frame_faces`)
+
+    Returns
+    -------
+    edges : (k, 2, 3) float [m], endpoints (x, y, s)
+    opposite : (k, 2, 3) float [m], the corner opposite the edge in each of its two faces (an
+        edge seen with both faces on one side of it is a silhouette); NaN for an edge of one face
+        or of more than two
+    """
+    empty = np.zeros((0, 2, 3))
+    if len(faces) == 0:
+        return empty, empty
+    pts, vid = np.unique(np.round(faces.reshape(-1, 3), 9), axis=0, return_inverse=True)
+    vid = vid.reshape(-1, 3)
+    vid = vid[(vid[:, 0] != vid[:, 1]) & (vid[:, 1] != vid[:, 2]) & (vid[:, 2] != vid[:, 0])]
+    vid = vid[np.unique(np.sort(vid, axis=1), axis=0, return_index=True)[1]]  # a face given twice (both sides) once
+    # every face's three edges (lower vertex id first) and the corner opposite each
+    a = np.concatenate([vid[:, 0], vid[:, 1], vid[:, 2]])
+    b = np.concatenate([vid[:, 1], vid[:, 2], vid[:, 0]])
+    o = np.concatenate([vid[:, 2], vid[:, 0], vid[:, 1]])
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    order = np.lexsort((hi, lo))
+    lo, hi, o = lo[order], hi[order], o[order]
+    start = np.flatnonzero(np.r_[True, (lo[1:] != lo[:-1]) | (hi[1:] != hi[:-1])])
+    count = np.diff(np.r_[start, len(lo)])
+    e0, e1 = pts[lo[start]], pts[hi[start]]
+    two = count == 2
+    opp = np.full((len(start), 2, 3), np.nan)
+    opp[two, 0] = pts[o[start[two]]]
+    opp[two, 1] = pts[o[start[two] + 1]]
+    # coplanar pairs on both sides of their edge: one flat surface
+    d = e1 - e0
+    n1 = np.cross(d, opp[:, 0] - e0)
+    n2 = np.cross(d, opp[:, 1] - e0)
+    with np.errstate(invalid="ignore"):
+        off = np.abs(np.einsum("ij,ij->i", opp[:, 1] - e0, n1)) / np.maximum(np.linalg.norm(n1, axis=1), 1e-300)
+        flat = two & (off <= COPLANAR_M) & (np.einsum("ij,ij->i", n1, n2) < 0)
+    keep = ~flat
+    # edges in the glazing plane that stay out of the glazing's outline (on it included)
+    in_plane = keep & (np.abs(e0[:, 2]) <= COPLANAR_M) & (np.abs(e1[:, 2]) <= COPLANAR_M)
+    if in_plane.any():
+        import shapely
+
+        cand = np.flatnonzero(in_plane)
+        inner = shapely.buffer(frame._outline_index()[0], -COPLANAR_M)
+        lines = shapely.linestrings(np.stack([e0[cand, :2], e1[cand, :2]], axis=1))
+        keep[cand[~shapely.intersects(lines, inner)]] = False
+    return np.stack([e0[keep], e1[keep]], axis=1), opp[keep]
 
 
 @dataclass
@@ -164,11 +246,13 @@ class RoomGeometry:
 
 def room_geometry(scene: Scene, room: Room, frame_depth_m: float = 0.5) -> RoomGeometry:
     """Lookups of ``room``'s windows; opaque faces within ``frame_depth_m`` [m] of a window's plane
-    and over it are its frame (:func:`frame_vertices`)."""
+    and over it are its frame (:func:`frame_faces`), with their corners and edges."""
     opaque = scene.triangles[scene.layer != WINDOW]
     frames = [window_frame(w, i) for i, w in enumerate(room.windows)]
     for f in frames:
-        f.frame_xys = frame_vertices(f, scene.vertices, opaque, frame_depth_m)
+        faces = frame_faces(f, scene.vertices, opaque, frame_depth_m)
+        f.frame_xys = frame_vertices(faces)
+        f.frame_edges, f.frame_edge_opposite = frame_edges(f, faces)
     wof = np.full(len(scene.triangles), -1, dtype=np.int64)
     for f in frames:
         wof[f.face_ids] = f.index

@@ -16,7 +16,9 @@ VIEW_METHOD = {
                       "most view.angular_resolution_deg each way plus a grid line through the image of every frame vertex "
                       "(opaque faces within view.frame_depth_m of the glazing: mullions, transoms, reveals); each cell "
                       "weighted by its exact solid angle and classified by the rays through its corners, shared with its "
-                      "neighbours; cells whose samples disagree split in four (at most view.refine_levels times) until each "
+                      "neighbours, and by two rays just beside the image of any frame edge crossing it; cells whose samples "
+                      "disagree, and cells crossed by the image of a frame edge that is not on a grid line (round, arched "
+                      "or diagonal members), count as mixed and split in four (at most view.refine_levels times) until each "
                       "layer's error estimate is within max(view.solid_angle_rel_tolerance x value, "
                       "view.solid_angle_abs_tolerance_sr); error = half the solid angle of the cells still mixed; features "
                       "narrower than a cell and not part of a frame can be missed",

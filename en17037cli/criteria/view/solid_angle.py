@@ -4,13 +4,16 @@ Each window is sampled per viewpoint on its gnomonic grid (:mod:`~en17037cli.cri
 every grid vertex is one ray, shared by the four cells around it, classified by one opaque
 first-hit query. Cells weigh their exact solid angle (the rectangle formula, or the clipped polygon
 for windows that are not rectangles), so the weights of an unobstructed window add up to its exact
-solid angle. Cells whose samples disagree are split in four, up to ``refine_levels`` times, until
-each layer's estimated error is within max(``solid_angle_rel_tolerance`` x its solid angle,
+solid angle. Cells whose samples disagree, and cells crossed by the image of a frame edge that is
+not on a grid line (:func:`edge_pieces`: a round frame, a diagonal member, a frame whose lines were
+thinned), are mixed; mixed cells are split in four, up to ``refine_levels`` times, until each
+layer's estimated error is within max(``solid_angle_rel_tolerance`` x its solid angle,
 ``solid_angle_abs_tolerance_sr``). Error estimate: half the solid angle of the cells still mixed.
+Cells crossed by a frame edge's image are also sampled just beside it (:meth:`_Cells.sample_probes`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -166,6 +169,10 @@ class _Cells:
     G columns: alpha0, alpha1, beta0, beta1 (the cell), then the same for its samples (moved
     inwards on a window's outline) [rad]. ``cls`` columns: corners (a0 b0), (a1 b0), (a0 b1),
     (a1 b1) and one extra sample inside the window for cells with no corner in it (-1: none).
+    ``piece_cell`` and ``piece_xy``: the pieces of frame-edge images inside each cell (cell index;
+    endpoints X0, Y0, X1, Y1 in gnomonic coordinates [-]); a cell with a piece counts as mixed.
+    ``probe_cell``, ``probe_cls``, ``probe_dist``: samples just beside those pieces, as many per
+    cell as it needs (:meth:`sample_probes`).
     """
 
     patch: np.ndarray
@@ -175,10 +182,25 @@ class _Cells:
     w: np.ndarray
     full: np.ndarray
     extra: np.ndarray
+    piece_cell: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    piece_xy: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    probe_cell: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    probe_cls: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
+    probe_dist: np.ndarray | None = None
 
     def take(self, sel) -> _Cells:
+        sel = np.arange(len(self.w))[sel]
+        new = np.full(len(self.w), -1, np.int64)
+        new[sel] = np.arange(len(sel))
+        pc, qc = new[self.piece_cell], new[self.probe_cell]
+        keep, kq = pc >= 0, qc >= 0
         return _Cells(self.patch[sel], self.G[sel], self.cls[sel], None if self.dist is None else self.dist[sel],
-                      self.w[sel], self.full[sel], self.extra[sel])
+                      self.w[sel], self.full[sel], self.extra[sel], pc[keep], self.piece_xy[keep],
+                      qc[kq], self.probe_cls[kq], None if self.probe_dist is None else self.probe_dist[kq])
+
+    def crossed(self) -> np.ndarray:
+        """(m,) bool, the cells crossed by the image of a frame edge."""
+        return np.bincount(self.piece_cell, minlength=len(self.w)) > 0
 
     def sample_extra(self, sample) -> _Cells:
         """Trace a sample inside the window's part of every cell none of whose corners lies in the window."""
@@ -189,6 +211,64 @@ class _Cells:
             if self.dist is not None:
                 self.dist[need, 4] = dd
         return self
+
+    def sample_probes(self, sample) -> _Cells:
+        """Trace two probes beside the pieces of frame-edge images in every cell they cross, so that
+        a view past an edge through a gap narrower than the cell (a crescent between the two rims
+        of a deep round frame) is seen, as the samples on both sides of a frame line see past an
+        axis-aligned member.
+
+        Only cells whose other samples agree are probed: the others are mixed and split anyway.
+        Probes stand at a piece's midpoint, :data:`PROBE_INSET` of the cell's smaller side (in
+        gnomonic coordinates) to either side of it. A cell is divided into :data:`PROBE_BINS` x
+        :data:`PROBE_BINS` equal parts in (alpha, beta) and only the longest piece whose midpoint
+        falls in each part is probed: the many short pieces of a finely tessellated frame cost
+        at most that many probes per cell.
+        """
+        kinds = self.kinds()
+        agree = np.flatnonzero((kinds & (kinds - 1))[self.piece_cell] == 0)
+        if len(agree) == 0:
+            return self
+        xy, pc = self.piece_xy[agree], self.piece_cell[agree]
+        d = xy[:, 2:] - xy[:, :2]
+        length = np.hypot(d[:, 0], d[:, 1])
+        mid = 0.5 * (xy[:, :2] + xy[:, 2:])
+        G = self.G[pc]
+        am, bm = np.arctan(mid[:, 0]), np.arctan(mid[:, 1])
+        ia = np.clip(((am - G[:, 0]) / (G[:, 1] - G[:, 0]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
+        ib = np.clip(((bm - G[:, 2]) / (G[:, 3] - G[:, 2]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
+        part = pc * PROBE_BINS * PROBE_BINS + ia * PROBE_BINS + ib
+        order = np.lexsort((-length, part))
+        first = order[np.r_[True, part[order][1:] != part[order][:-1]]]
+        c = pc[first]
+        X0, X1, Y0, Y1 = (np.tan(self.G[c, i]) for i in range(4))
+        step = PROBE_INSET * np.minimum(X1 - X0, Y1 - Y0) / length[first]
+        normal = np.column_stack([-d[first, 1], d[first, 0]]) * step[:, None]
+        px = np.clip(np.concatenate([mid[first, 0] + normal[:, 0], mid[first, 0] - normal[:, 0]]), np.tile(X0, 2), np.tile(X1, 2))
+        py = np.clip(np.concatenate([mid[first, 1] + normal[:, 1], mid[first, 1] - normal[:, 1]]), np.tile(Y0, 2), np.tile(Y1, 2))
+        self.probe_cell = np.tile(c, 2)  # the two sides of each piece
+        self.probe_cls, self.probe_dist = sample(self.patch[self.probe_cell], np.arctan(px), np.arctan(py))
+        return self
+
+    def sample_counts(self, code=None) -> np.ndarray:
+        """(m,) int, per cell: its samples (corners, extra, probes) of class ``code``, or valid ones (None)."""
+        if code is None:
+            return (self.cls >= 0).sum(axis=1) + np.bincount(self.probe_cell, self.probe_cls >= 0, len(self.w)).astype(np.int64)
+        return (self.cls == code).sum(axis=1) + np.bincount(self.probe_cell, self.probe_cls == code, len(self.w)).astype(np.int64)
+
+    def kinds(self) -> np.ndarray:
+        """(m,) uint8, per cell: bit c set when a sample (corners, extra, probes) has class c."""
+        cls = self.cls
+        kinds = np.bitwise_or.reduce(np.where(cls >= 0, np.left_shift(1, np.maximum(cls, 0)), 0).astype(np.uint8), axis=1)
+        ok = self.probe_cls >= 0
+        np.bitwise_or.at(kinds, self.probe_cell[ok], np.left_shift(1, self.probe_cls[ok].astype(np.int64)).astype(np.uint8))
+        return kinds
+
+
+#: A cell is probed beside at most one piece of frame-edge image in each of this many parts per axis.
+PROBE_BINS = 8
+#: Probes stand this fraction of the cell's smaller side from the edge's image.
+PROBE_INSET = 1e-2
 
 
 def _base_cells(sample, P: Patches) -> _Cells:
@@ -221,10 +301,125 @@ def _base_cells(sample, P: Patches) -> _Cells:
     cls = np.concatenate([vcls[corner], np.full((len(cp), 1), -1, np.int8)], axis=1)
     dist = None if vdist is None else np.concatenate([vdist[corner], np.full((len(cp), 1), np.inf)], axis=1)
     weight, full, extra = _cell_weights(sample.rg, P, cp, G, sample.rect[P.win[cp]])
-    cells = _Cells(cp, G, cls, dist, weight, full, extra)
+    pc, pxy = edge_pieces(P, la_ptr, la, lb_ptr, lb, cbase, nlb)
+    cells = _Cells(cp, G, cls, dist, weight, full, extra, pc, pxy)
     if not full.all():
         cells = cells.take(weight > 0)
-    return cells.sample_extra(sample)
+    return cells.sample_extra(sample).sample_probes(sample)
+
+
+def _rank(ptr, val, q_pt, q_val, right: bool = False) -> np.ndarray:
+    """Number of lines of patch ``q_pt`` below ``q_val`` (``right``: at or below), per query.
+
+    ``ptr`` and ``val``: each patch's sorted lines, val[ptr[i]:ptr[i + 1]] [rad]. An exact merge
+    (lines and queries sorted together by patch, then value), vectorised over queries.
+    """
+    n = len(val)
+    line_pt = np.repeat(np.arange(len(ptr) - 1), np.diff(ptr))
+    is_line = np.r_[np.ones(n, bool), np.zeros(len(q_val), bool)]
+    # on equal values, lines sort before queries for ``right`` and after them otherwise
+    tie = np.where(is_line, 0 if right else 1, 1 if right else 0)
+    order = np.lexsort((tie, np.r_[val, q_val], np.r_[line_pt, q_pt]))
+    below = np.cumsum(is_line[order])  # lines up to and including each position
+    rank = np.empty(len(order), np.int64)
+    rank[order] = below
+    return rank[n:] - ptr[q_pt]
+
+
+#: An image of a frame edge that turns less than this across its length and whose middle lies
+#: this close to a grid line lies on the line: the line already bounds the cells on either side,
+#: which the edge's image then does not cross [rad]. What it leaves out is at most this wide
+#: (under 4e-7 sr over a whole hemisphere); models whose axes are off by round-off (an edge 6e-8
+#: rad off level over 0.35 rad) would otherwise flag a run of cells along every transom.
+ON_LINE_RAD = 1e-7
+#: Pieces of an edge's image shorter than this fraction of it are left out (crossings at a corner).
+MIN_PIECE = 1e-12
+
+
+def edge_pieces(P: Patches, la_ptr, la, lb_ptr, lb, cbase, nlb) -> tuple[np.ndarray, np.ndarray]:
+    """The base cells crossed by the images of frame edges (:attr:`Patches.seg`), and the piece of
+    the image inside each.
+
+    The gnomonic projection keeps straight lines straight, and a cell [alpha0, alpha1] x [beta0,
+    beta1] is the rectangle [tan alpha0, tan alpha1] x [tan beta0, tan beta1] in (X, Y): each
+    image is cut where it crosses the grid lines of its patch (found per image by rank among the
+    lines, ragged counts by repeat), and each piece falls in the cell of its midpoint. An image on
+    a grid line (an axis-aligned edge whose vertices drew the line) crosses no cell.
+
+    Parameters
+    ----------
+    la_ptr, la, lb_ptr, lb : each patch's grid lines in alpha and beta [rad] (:func:`grid_lines`)
+    cbase, nlb : (m,) int, each patch's first base cell and its number of beta intervals
+
+    Returns
+    -------
+    cell : (q,) int, base cell of each piece; xy : (q, 4) float [-], its endpoints X0, Y0, X1, Y1
+    """
+    sp, S = P.seg_pt, P.seg
+    if len(sp) == 0:
+        return np.zeros(0, np.int64), np.zeros((0, 4))
+    ang = np.arctan(S)  # alpha0, beta0, alpha1, beta1
+    drop = np.zeros(len(sp), dtype=bool)
+    for c, ptr, val in ((0, la_ptr, la), (1, lb_ptr, lb)):  # the two axes: images on a grid line
+        a0, a1 = ang[:, c], ang[:, c + 2]
+        mid = 0.5 * (a0 + a1)
+        r = _rank(ptr, val, sp, mid)
+        nl = np.diff(ptr)[sp]
+        below = val[ptr[sp] + np.clip(r - 1, 0, nl - 1)]
+        above = val[ptr[sp] + np.clip(r, 0, nl - 1)]
+        near = np.minimum(np.abs(mid - below), np.abs(above - mid))
+        drop |= (np.abs(a1 - a0) <= ON_LINE_RAD) & (near <= ON_LINE_RAD)
+    keep = np.flatnonzero(~drop)
+    sp, S, ang = sp[keep], S[keep], ang[keep]
+    k = len(sp)
+    # crossings with each axis's lines strictly between the image's ends: parameters along it
+    seg_id, par = [np.arange(k), np.arange(k)], [np.zeros(k), np.ones(k)]
+    for c, ptr, val in ((0, la_ptr, la), (1, lb_ptr, lb)):
+        lo, hi = np.minimum(ang[:, c], ang[:, c + 2]), np.maximum(ang[:, c], ang[:, c + 2])
+        first = _rank(ptr, val, sp, lo, right=True)
+        n = np.maximum(_rank(ptr, val, sp, hi) - first, 0)
+        rows = np.repeat(np.arange(k), n)
+        line = ptr[sp[rows]] + first[rows] + (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n))
+        seg_id.append(rows)
+        par.append((np.tan(val[line]) - S[rows, c]) / (S[rows, c + 2] - S[rows, c]))
+    seg_id, par = np.concatenate(seg_id), np.clip(np.concatenate(par), 0.0, 1.0)
+    order = np.lexsort((par, seg_id))
+    seg_id, par = seg_id[order], par[order]
+    nxt = np.flatnonzero((seg_id[1:] == seg_id[:-1]) & (par[1:] - par[:-1] > MIN_PIECE))
+    rows, ta, tb = seg_id[nxt], par[nxt, None], par[nxt + 1, None]
+    p0, dp = S[rows, :2], S[rows, 2:] - S[rows, :2]
+    xy = np.concatenate([p0 + ta * dp, p0 + tb * dp], axis=1)
+    mid = np.arctan(p0 + 0.5 * (ta + tb) * dp)
+    pt = sp[rows]
+    i = np.clip(_rank(la_ptr, la, pt, mid[:, 0], right=True) - 1, 0, np.diff(la_ptr)[pt] - 2)
+    j = np.clip(_rank(lb_ptr, lb, pt, mid[:, 1], right=True) - 1, 0, np.diff(lb_ptr)[pt] - 2)
+    return cbase[pt] + i * nlb[pt] + j, xy
+
+
+def _split_pieces(cell, xy, Xm, Ym) -> tuple[np.ndarray, np.ndarray]:
+    """Pieces of frame-edge images in cells split at gnomonic coordinates ``Xm``, ``Ym`` (per cell,
+    [-]): each piece cut where it crosses the two lines, and each part given to the child of its
+    midpoint, numbered as :func:`_split` numbers them (child q of cell c is q m + c)."""
+    m = len(Xm)
+    if len(cell) == 0:
+        return cell, xy
+    d = xy[:, 2:] - xy[:, :2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tx = (Xm[cell] - xy[:, 0]) / d[:, 0]
+        ty = (Ym[cell] - xy[:, 1]) / d[:, 1]
+    tx = np.where((tx > 0) & (tx < 1), tx, np.nan)
+    ty = np.where((ty > 0) & (ty < 1), ty, np.nan)
+    T = np.sort(np.column_stack([np.zeros(len(cell)), tx, ty, np.ones(len(cell))]), axis=1)  # NaN last
+    T = np.where(np.isnan(T), 1.0, T)
+    ta, tb = T[:, :3].reshape(-1, 1), T[:, 1:].reshape(-1, 1)
+    rows = np.repeat(np.arange(len(cell)), 3)
+    ok = (tb - ta)[:, 0] > MIN_PIECE
+    rows, ta, tb = rows[ok], ta[ok], tb[ok]
+    p0, dp = xy[rows, :2], d[rows]
+    mid = p0 + 0.5 * (ta + tb) * dp
+    c = cell[rows]
+    q = (mid[:, 0] > Xm[c]).astype(np.int64) + 2 * (mid[:, 1] > Ym[c])
+    return q * m + c, np.concatenate([p0 + ta * dp, p0 + tb * dp], axis=1)
 
 
 #: The four children of a cell: for each, its bounds and sample positions as columns of
@@ -257,10 +452,11 @@ def _split(sample, cells: _Cells) -> _Cells:
     patch = np.tile(cells.patch, 4)
     full = np.tile(cells.full, 4)
     w, full, extra = _cell_weights(sample.rg, sample.P, patch, kid_G, full)
-    kids = _Cells(patch, kid_G, kid_cls, kid_dist, w, full, extra)
+    pc, pxy = _split_pieces(cells.piece_cell, cells.piece_xy, np.tan(Am), np.tan(Bm))
+    kids = _Cells(patch, kid_G, kid_cls, kid_dist, w, full, extra, pc, pxy)
     if not full.all():
         kids = kids.take(w > 0)
-    return kids.sample_extra(sample)
+    return kids.sample_extra(sample).sample_probes(sample)
 
 
 def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> SolidAngles:
@@ -289,16 +485,15 @@ def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, sett
         if cells is None or len(cells.w) == 0:
             break
         pi, w, cls = P.pt[cells.patch], cells.w, cells.cls
-        kinds = np.bitwise_or.reduce(np.where(cls >= 0, np.left_shift(1, np.maximum(cls, 0)), 0).astype(np.uint8), axis=1)
-        mixed = (kinds & (kinds - 1)) != 0
+        kinds = cells.kinds()
+        mixed = ((kinds & (kinds - 1)) != 0) | cells.crossed()  # samples that disagree, or a frame edge's image
         mi = np.flatnonzero(mixed)
-        valid_m = cls[mi] >= 0
-        nvalid_m = np.maximum(valid_m.sum(axis=1), 1)
+        nvalid = np.maximum(cells.sample_counts(), 1)
         # share of each layer: 1 or 0 in a pure cell, the share of its samples in a mixed one
         share = {}
         for key, code in LAYER_CODES:
             s = (kinds == (1 << code)).astype(float)
-            s[mi] = (cls[mi] == code).sum(axis=1) / nvalid_m
+            s[mi] = cells.sample_counts(code)[mi] / nvalid[mi]
             share[key] = s
         # Error control: a point stops refining once every layer's estimated error (half the
         # solid angle of its mixed cells) is within max(rel * layer solid angle, abs).
@@ -319,11 +514,19 @@ def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, sett
         if with_dist:  # each valid sample of a final cell carries an equal share of its weight
             c = cls[final]
             ok = (c >= 0) & (c != BLOCKED)
-            sw = (fw / np.maximum((c >= 0).sum(axis=1), 1))[:, None] * ok
+            sw = (fw / nvalid[final])[:, None] * ok
             r, col = np.nonzero(sw > 0)
             dist_rows.append(cells.dist[final][r, col])
             dist_w.append(sw[r, col])
             dist_p.append(fp[r])
+            is_final = np.zeros(len(w), dtype=bool)
+            is_final[final] = True
+            if cells.probe_dist is not None:  # and its probes'
+                q = np.flatnonzero(is_final[cells.probe_cell] & (cells.probe_cls >= 0) & (cells.probe_cls != BLOCKED))
+                qc = cells.probe_cell[q]
+                dist_rows.append(cells.probe_dist[q])
+                dist_w.append(w[qc] / nvalid[qc])
+                dist_p.append(pi[qc])
         if not last:
             rest = np.ones(len(w), dtype=bool)
             rest[final] = False
