@@ -19,7 +19,7 @@ samples: $(STAMP)
 
 demo: $(STAMP) samples
 	$(VENV)/bin/en17037 check sample_projects/seed-office/project.yaml --out out/seed-office; \
-	  code=$$?; echo "reports: out/seed-office/ (report.md, report.json, view_points.csv, sunlight_days.csv), exit code $$code"; \
+	  code=$$?; echo "report: $(CURDIR)/out/seed-office/report.html (beside it report.md, report.json, the CSVs and figures/), exit code $$code"; \
 	  test $$code -le 1
 
 lint: $(STAMP)

@@ -10,7 +10,9 @@ Speed is measured here, never in a timed test. Sections:
 3. **Large context**: the same for the synthetic room inside a generated city of about 1 million
    triangles read from a binary PLY file.
 4. **Scaling**: view time against triangles, viewpoints and angular resolution.
-5. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
+5. **Pictures**: what the pictures of the client report add to ``en17037 check`` on the seed
+   office (whole process, imports included): the median of 5 runs with and without ``--no-plots``.
+6. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
    :func:`en17037cli.samples.ifc.block`), wall time, stage times and peak memory against the
    number of rooms checked (1, 10, 100, 216), view and sunlight with the defaults.
 
@@ -125,10 +127,10 @@ _LAUNCHER = (
 )
 
 
-def run_check(project_path: Path, overrides=()) -> dict:
+def run_check(project_path: Path, overrides=(), extra_args=()) -> dict:
     """``en17037 check`` in a child process: wall time [s], peak memory [MB], stage times [s], rays."""
     with tempfile.TemporaryDirectory() as tmp:
-        cmd = [sys.executable, "-m", "en17037cli", "check", str(project_path), "--quiet", "--out", tmp]
+        cmd = [sys.executable, "-m", "en17037cli", "check", str(project_path), "--quiet", "--out", tmp, *extra_args]
         for o in overrides:
             cmd += ["--set", o]
         done = subprocess.run([sys.executable, "-c", _LAUNCHER, *cmd], capture_output=True, text=True, check=True)
@@ -172,6 +174,23 @@ def scaling(quick: bool) -> dict:
         r = run_check(SAMPLES["seed-office"], [f"view.angular_resolution_deg={res}", "sunlight.period.end=02-01"])
         out["resolution"].append({"angular_resolution_deg": res, "view_s": r["stages_s"].get("view"), "rays": r["rays"]})
     return out
+
+
+def pictures_cost(repeat: int = 5) -> dict:
+    """Median wall time of ``check`` on the seed office with and without pictures [s], and the difference."""
+    import statistics
+
+    walls: dict[str, list] = {"with": [], "without": []}
+    stages = {}
+    for _ in range(repeat):  # interleaved, so that a slow spell hits both
+        for key, extra in (("with", []), ("without", ["--no-plots"])):
+            r = run_check(SAMPLES["seed-office"], extra_args=extra)
+            walls[key].append(r["wall_s"])
+            if key == "with":
+                stages = r["stages_s"]
+    w, wo = statistics.median(walls["with"]), statistics.median(walls["without"])
+    return {"project": "seed-office", "with_pictures_s": w, "without_pictures_s": wo, "added_s": w - wo,
+            "pictures_stage_s": stages.get("pictures"), "figures_stage_s": stages.get("figures")}
 
 
 #: Rooms checked in the whole-building section (of the block's 216).
@@ -233,7 +252,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "building")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "building")
 
 
 def main(argv=None) -> int:
@@ -273,6 +292,10 @@ def main(argv=None) -> int:
         _table("View time against viewpoints (seed office)", sc["viewpoints"], ["grid_spacing_m", "view_s", "rays"])
         _table("View time against angular resolution (seed office, 0.5 m grid)", sc["resolution"],
                ["angular_resolution_deg", "view_s", "rays"])
+    if "pictures" in args.only:
+        result["pictures"] = pictures_cost()
+        _table("Pictures of the client report: check with and without --no-plots, median of 5 [s]", [result["pictures"]],
+               ["project", "with_pictures_s", "without_pictures_s", "added_s", "pictures_stage_s", "figures_stage_s"])
     if "building" in args.only:
         result["building"] = whole_building(args.quick)
         _table("Whole building: the generated IFC apartment block, defaults [s, MB]", result["building"],

@@ -145,12 +145,15 @@ def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, qu
     def run():
         project = load_project(project_file, list(overrides))
         check_folder(out, project.path, WRITERS)  # before any work: a folder we may not write stops here
+        warm = None if no_plots else _warm_up_pictures()
         bar, progress = _progress_factory(not quiet and sys.stderr.isatty())
         if bar is not None:
             with bar:
                 result = pipeline.run(project, only, progress, max_points or MAX_POINTS, pictures=not no_plots)
         else:
             result = pipeline.run(project, only, max_points=max_points or MAX_POINTS, pictures=not no_plots)
+        if warm is not None:
+            warm.join()
         figures = [] if no_plots else render_figures(result)
         report = build_report(result)
         write_reports(report, out, project.path, figures)
@@ -161,6 +164,24 @@ def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, qu
     if not quiet:
         _summary(report, out)
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
+
+
+def _warm_up_pictures():
+    """Import matplotlib and load its font in a background thread while the run traces rays (the
+    run's numpy and Embree work leaves the interpreter free most of the time); join before drawing."""
+    import threading
+
+    from en17037cli.report.pictures.canvas import warm_up
+
+    def safe():
+        try:
+            warm_up()
+        except Exception:  # noqa: BLE001 - drawing later reports any real problem
+            pass
+
+    t = threading.Thread(target=safe, name="en17037-warm-up", daemon=True)
+    t.start()
+    return t
 
 
 def _exit_on_sigterm():

@@ -49,6 +49,13 @@ def _render(draw: Callable, size_in: tuple[float, float]) -> bytes:
     return buf.getvalue()
 
 
+def warm_up() -> None:
+    """Import matplotlib and load the font by drawing a tiny picture: the first picture's fixed
+    cost (about 0.5 s), for a caller to pay in a background thread while it traces rays. The
+    caller must wait for it (``Thread.join``) before drawing: matplotlib's settings are global."""
+    _render(lambda fig: fig.text(0.5, 0.5, "0°"), (0.2, 0.2))
+
+
 def _fmt_num(v: float) -> str:
     """A threshold or bar length without trailing zeros."""
     return f"{v:.6g}"
