@@ -8,6 +8,13 @@ The Python API, for scripts and notebooks (the CLI is a thin layer over it)::
     report = en17037cli.write_reports(result, "out/")   # the report.json document, files written
     result.status, report["rooms"][0]["view"]["level"]
 
+In a design loop, a :class:`Session` reads each model file once and returns continuous scores::
+
+    session = en17037cli.Session()
+    for width in (1.2, 1.8, 2.4):
+        scores = session.scores(en17037cli.load_project("project.yaml", [f"model.files.0.path=w{width}.obj"]))
+        scores["office"]["view"]      # 0 .. 3, the level at each threshold, linear in between
+
 Heavy modules load on first call, so ``import en17037cli`` stays cheap.
 """
 from __future__ import annotations
@@ -49,3 +56,30 @@ def write_reports(result, out_dir) -> dict:
     report = build_report(result)
     write(report, Path(out_dir), result.project.path, figures)
     return report
+
+
+class Session:
+    """Repeated runs of variants of projects (design optimisation): every model file is read once
+    per (path, size, modification time, read options) and reused while the session lives, so a loop
+    that changes the building re-reads only the building's files; scenes and the ray engine's
+    structures are built per run."""
+
+    def __init__(self):
+        self._cache: dict = {}
+
+    def run(self, project, only: str | None = None, pictures: bool = False):
+        """:func:`run` with the session's file cache."""
+        from en17037cli.scene.load import READ_CACHE
+
+        token = READ_CACHE.set(self._cache)
+        try:
+            return run(project, only, pictures=pictures)
+        finally:
+            READ_CACHE.reset(token)
+
+    def scores(self, project, only: str | None = None) -> dict:
+        """Continuous scores per room: ``{room: {"view": s, "sunlight": s}}``, each in [0, 3]
+        (:mod:`en17037cli.scores`)."""
+        from en17037cli.scores import room_scores
+
+        return room_scores(self.run(project, only))

@@ -362,6 +362,32 @@ def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points,
                                                              " (install matplotlib for convergence.png)"))
 
 
+@study.command()
+@project_argument
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), required=True,
+              help="Folder for sensitivity.csv, sensitivity.json, sensitivity.html and the tornado charts.")
+@set_option
+def sensitivity(project_file: Path, out_dir: Path, overrides):
+    """How each verdict moves with the choices the standard leaves open (one at a time)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    from en17037cli.studies import sensitivity as st
+
+    res = guard(lambda: st.sensitivity(project_file, out_dir, overrides, log=lambda m: click.echo(m, err=True)))
+    console = Console(width=max(Console().width, 120))
+    table = Table(title=f"Sensitivity of {project_file}")
+    for col in ("room", "check", "required", "level", "lowest", "highest", "moved by", "verdict"):
+        table.add_column(col)
+    for r in res["rooms"]:
+        table.add_row(r["room"], r["check"], r["required"], r["level"], r["lowest"], r["highest"], ", ".join(r["moved_by"]) or "-",
+                      r["verdict"])
+    console.print(table)
+    c = res["cost"]
+    console.print(f"cost: {c['total_s']:.1f} s, {c['ratio']:.1f} x the check with the project's own settings ({c['base_s']:.1f} s); "
+                  f"wrote {out_dir / 'sensitivity.csv'}, sensitivity.json, sensitivity.html")
+
+
 @cli.command()
 @click.argument("which", type=click.Choice(["project", "report"]))
 def schema(which):

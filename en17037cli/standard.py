@@ -302,3 +302,61 @@ def sunlight_limit(hours: float, reached: int, required: str, thresholds: LevelT
     Table A.6)."""
     t = target_level(reached, required)
     return Limit(LEVELS[t], "sunlight_hours", float(hours), thresholds.values()[t - 1] if t > 0 else 0.0)
+
+
+# --- continuous scores (beyond the standard) -------------------------------------------------
+#
+# EN 17037 gives levels only. For design optimisation and sensitivity studies a score in [0, 3]
+# follows the underlying quantity: it equals the level index at the level's threshold and is
+# linear in the quantity between thresholds (0 at a quantity of 0, 3 at and above ``high``), so
+# it is continuous and non-decreasing in the quantity, and floor(score) is the level.
+
+
+def score_from_value(values, thresholds: LevelThresholds) -> np.ndarray:
+    """Continuous score in [0, 3] of quantities (beyond the standard): piecewise linear through
+    (0, 0), (minimum, 1), (medium, 2), (high, 3); 3 above high (+inf included), 0 below 0, NaN kept.
+
+    Parameters
+    ----------
+    values : array_like, in the thresholds' unit ([deg], [m], [h])
+    """
+    v = np.asarray(values, dtype=float)
+    out = np.interp(np.where(np.isnan(v), 0.0, v), [0.0, *thresholds.values()], [0.0, 1.0, 2.0, 3.0])
+    return np.where(np.isnan(v), np.nan, out)
+
+
+def area_quantile(values, area_fraction: float) -> float:
+    """The value that ``area_fraction`` of the points reach: the k-th largest, k = ceil(n x
+    area_fraction) (NaN and -inf count as not reaching anything). ``level_from_value`` of it is
+    the room level of :func:`room_level` on the same points (clause 5.2: the share of the
+    utilised area); NaN without points."""
+    v = np.asarray(values, dtype=float).ravel()
+    if not v.size:
+        return float("nan")
+    v = np.sort(np.where(np.isnan(v), -np.inf, v))[::-1]
+    k = max(1, int(np.ceil(v.size * area_fraction - 1e-9)))
+    return float(v[k - 1])
+
+
+def margins(quantity: float, level: int, thresholds: LevelThresholds) -> tuple[float | None, float | None]:
+    """(up, down): how much ``quantity`` must grow to reach the next level, and how much it can
+    lose before it drops a level, in the quantity's unit; None beyond high or below minimum, and
+    ``down`` None for an infinite quantity."""
+    t = thresholds.values()
+    up = None if level >= 3 else t[level] - quantity
+    down = None if level <= 0 or not np.isfinite(quantity) else quantity - t[level - 1]
+    return up, down
+
+
+def share_score(share_by_level: dict[str, float], area_fraction: float) -> tuple[float, int]:
+    """Score of a criterion judged by shares of points (the view layers, whose points have levels
+    but no continuous quantity): level L plus the share reaching L + 1 over the share needed,
+    ``L + min(s(L+1) / area_fraction, 1)`` capped at 3; (score, L). It reaches L + 1 as the share
+    does; at that moment it continues from L + 1 + s(L+2) / area_fraction, so it is continuous
+    where no point reaches two levels up."""
+    level = 0
+    for i in range(1, len(LEVELS)):
+        if share_by_level[LEVELS[i]] >= area_fraction - 1e-12:
+            level = i
+    nxt = share_by_level[LEVELS[level + 1]] if level < 3 else 0.0
+    return min(3.0, level + min(nxt / area_fraction, 1.0)), level

@@ -149,6 +149,7 @@ class ViewSettings:
     angle_tolerance_deg: float
     distance_method: str
     distance_statistic: str
+    grid_offset: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -123,9 +123,12 @@ def report_html(report: dict, figures=()) -> str:
          "(exposure to sunlight).</span></p>",
          '<h2 id="verdict">Verdict</h2>']
     rows = verdict_rows(report)
-    H.append(_table([["room", "check", "reached", "required", "result", "what limits it"]]
+    H.append(_table([["room", "check", "reached", "required", "result", "what limits it", "score"]]
                     + [[escape(r["room"]), escape(r["check"]), escape(r["reached"]), escape(r["required"]),
-                        _status(r["result"]), escape(r["limits"])] for r in rows], raw=(0, 1, 2, 3, 4, 5)))
+                        _status(r["result"]), escape(r["limits"]), r["score"]] for r in rows], numeric=(6,),
+                    raw=(0, 1, 2, 3, 4, 5)))
+    H.append('<p class="small">Score: 0 to 3, equal to the level at each threshold and linear in the quantity between '
+             "thresholds (beyond the standard: for comparing designs).</p>")
     dw = [line for line in dwellings_markdown(report) if line and not line.startswith("|")]
     H += [f"<p>{escape(line.replace('`', ''))}</p>" for line in dw]
     dwell = [d for d in report["dwellings"] if d["sunlight"]["status"] is not None]
@@ -153,5 +156,31 @@ def report_html(report: dict, figures=()) -> str:
             H += [f"<h3>{escape(room['name'])}, eye height {e['eye_height_m']} m{more}</h3>",
                   _table(_point_rows(e), numeric=(0, 1, 2, 3, 4))]
         H.append('<p class="small">* within the error estimate of a threshold: the level could flip.</p></section>')
+    H.append("</body></html>")
+    return "\n".join(H) + "\n"
+
+
+def sensitivity_html(doc: dict, charts: list[tuple[str, bytes]], project_name: str) -> str:
+    """``sensitivity.html`` of ``en17037 study sensitivity``: the verdicts' robustness table and a
+    tornado chart of the scores per room; self-contained like report.html."""
+    title = f"EN 17037 sensitivity: {project_name}"
+    H = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+         "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; img-src data:; style-src 'unsafe-inline'\">",
+         f"<title>{escape(title)}</title><style>{_CSS}</style></head><body>", f"<h1>{escape(title)}</h1>",
+         "<p>Each choice the standard leaves open is set, one at a time, to each value of its range; the level and the "
+         "score (0 to 3, beyond the standard) are judged again. <b>robust pass</b>: every value passes; <b>robust fail</b>: "
+         "none does; <b>depends on</b>: the choices that flip the verdict.</p>"]
+    H.append(_table([["room", "check", "required", "level", "score", "lowest", "highest", "moved by", "verdict"]] + [
+        [r["room"], r["check"], r["required"], r["level"], f"{r['score']:.2f}", r["lowest"], r["highest"],
+         ", ".join(r["moved_by"]) or "-", r["verdict"]] for r in doc["rooms"]], numeric=(4,)))
+    for caption, png in charts:
+        data = base64.b64encode(png).decode("ascii")
+        H.append(f'<figure class="wide"><img alt="{escape(caption)}" src="data:image/png;base64,{data}">'
+                 f"<figcaption>{escape(caption)}</figcaption></figure>")
+    H.append("<h2>Ranges</h2><ul>" + "".join(f"<li>{escape(k)}: {escape(', '.join(v))}</li>" for k, v in doc["ranges"].items())
+             + "</ul>")
+    c = doc.get("cost")
+    if c:
+        H.append(f'<p class="small">Cost: {c["total_s"]} s, {c["ratio"]} x the check with the project\'s own settings.</p>')
     H.append("</body></html>")
     return "\n".join(H) + "\n"

@@ -49,8 +49,9 @@ def verdict_rows(report: dict) -> list[dict]:
             limit = limit_text(key, sec) if not u else f"{u['reason']}"
             if key == "sunlight" and assessed(sec) and sec["near_threshold"]:
                 limit += " (within its error estimate of a threshold)"
+            score = (sec.get("score") or {}).get("value")
             rows.append({"room": room["name"], "check": title, "reached": sec["level"] or "-", "required": sec["required"],
-                         "result": STATUS_LABEL[sec["status"]], "limits": limit})
+                         "result": STATUS_LABEL[sec["status"]], "limits": limit, "score": "-" if score is None else f"{score:.2f}"})
     return rows
 
 
@@ -121,8 +122,10 @@ def report_markdown(report: dict, figures=()) -> str:
          f"`{report['project']['file']}`).", ""]
     L += dwellings_markdown(report)
     rows = verdict_rows(report)
-    L += _md_table([["room", "check", "reached", "required", "result", "what limits it"]]
-                   + [[r["room"], r["check"], r["reached"], r["required"], f"**{r['result']}**", r["limits"]] for r in rows])
+    L += _md_table([["room", "check", "reached", "required", "result", "what limits it", "score"]]
+                   + [[r["room"], r["check"], r["reached"], r["required"], f"**{r['result']}**", r["limits"], r["score"]]
+                      for r in rows])
+    L += ["", "Score: 0 to 3, the level at each threshold and linear in between (beyond the standard; see the README).", ""]
     L += ["", "## Parameters the standard leaves open", ""] + [f"- {line}" for line in parameter_lines(report)]
     for room in report["rooms"]:
         L += ["", f"## Room {room['name']}", ""]

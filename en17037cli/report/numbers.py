@@ -70,3 +70,15 @@ def json_limit(limit) -> dict:
     if limit.eye_height_m is not None:
         out["eye_height_m"] = json_number(limit.eye_height_m, 3)
     return out
+
+
+def json_scores(score: float, parts=()) -> dict:
+    """A continuous score in report.json: its value (0 to 3, 4 decimals) and, for the view, each
+    eye height and criterion's quantity, score and margins (see en17037cli.criteria.view.scores)."""
+    out: dict = {"value": json_number(score, 4)}
+    if parts:
+        out["by_criterion"] = [{"criterion": p.criterion, "eye_height_m": json_number(p.eye_height_m, 3),
+                                "quantity": json_number(p.quantity, 4), "unit": p.unit, "score": json_number(p.score, 4),
+                                "margin_up": json_number(p.margin_up, 4), "margin_down": json_number(p.margin_down, 4)}
+                               for p in parts]
+    return out

@@ -39,3 +39,29 @@ def sunlight_days_csv(report: dict) -> str:
             w.writerow([room["name"], d["date"], d["hours"], d["error_h"], d["date"] == s["assessed_date"],
                         ";".join(f"{a[11:19]}-{b[11:19]}" for a, b in d["intervals"])])
     return buf.getvalue()
+
+
+def rooms_csv(report: dict) -> str:
+    """``rooms.csv``: one row per room and check: level, requirement, status, what limits it and
+    the continuous score with its margins (view: the limiting eye height and criterion)."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["room", "check", "level", "required", "status", "limiting_criterion", "limiting_eye_height_m",
+                "limiting_value", "limiting_needed", "limiting_margin", "score", "score_quantity", "score_unit",
+                "margin_up", "margin_down"])
+    blank = lambda v: "" if v is None else v  # noqa: E731
+    for room in report["rooms"]:
+        for key in ("view", "sunlight"):
+            sec = room[key]
+            if sec is None:
+                continue
+            lim, sc = sec.get("limiting") or {}, sec.get("score") or {}
+            if key == "view" and sc.get("by_criterion"):
+                low = min(sc["by_criterion"], key=lambda p: (p["score"], p["eye_height_m"]))
+                sc = sc | {"quantity": low["quantity"], "unit": f"{low['unit']} ({low['criterion'].replace('_', ' ')}, "
+                           f"{low['eye_height_m']:g} m)", "margin_up": low["margin_up"], "margin_down": low["margin_down"]}
+            w.writerow([room["name"], key, blank(sec["level"]), sec["required"], sec["status"], lim.get("criterion", ""),
+                        blank(lim.get("eye_height_m")), blank(lim.get("value")), blank(lim.get("needed")),
+                        blank(lim.get("margin")), blank(sc.get("value")), blank(sc.get("quantity")), sc.get("unit", ""),
+                        blank(sc.get("margin_up")), blank(sc.get("margin_down"))])
+    return buf.getvalue()

@@ -1,6 +1,7 @@
 """Reading the model files of a project into one set of world-frame float64 triangles with layers."""
 from __future__ import annotations
 
+import contextvars
 import hashlib
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -61,9 +62,27 @@ class LoadedFile:
     part_sun: np.ndarray  # (parts,) bool
 
 
+#: Meshes already read, by (path, size, modification time, options), while a
+#: :class:`en17037cli.Session` is active (design loops read the same context many times); None otherwise.
+READ_CACHE: contextvars.ContextVar[dict | None] = contextvars.ContextVar("en17037_read_cache", default=None)
+
+
+def cached_read(path: Path, options: ReadOptions) -> Mesh:
+    """:func:`read_model`, or the mesh read before from the same unchanged file with the same options
+    while a read cache is active (:data:`READ_CACHE`). Meshes are not changed after reading."""
+    cache = READ_CACHE.get()
+    if cache is None:
+        return read_model(path, options)
+    st = path.stat()
+    key = (str(path.resolve()), st.st_size, st.st_mtime_ns, options)
+    if key not in cache:
+        cache[key] = read_model(path, options)
+    return cache[key]
+
+
 def read_file(i: int, spec: ModelFile, model: ModelSettings, where: str, options: ReadOptions, warnings: list) -> LoadedFile:
     """Read model file ``i``, scale it to metres, turn it z-up, place it (``transform``) and layer its parts."""
-    mesh = read_model(spec.path, options)
+    mesh = cached_read(spec.path, options)
     warnings.extend(mesh.warnings)
     units = spec.units or mesh.units or model.units
     up = spec.up_axis or mesh.up_axis or model.up_axis

@@ -6,7 +6,7 @@ import numpy as np
 from en17037cli import standard
 from en17037cli.criteria.sunlight.results import SunlightResult
 from en17037cli.project.settings import SunSettings
-from en17037cli.report.numbers import iso_time, json_limit, json_number, json_xyz
+from en17037cli.report.numbers import iso_time, json_limit, json_number, json_scores, json_xyz
 from en17037cli.scene.model import Room, Scene
 from en17037cli.standard import LEVELS
 
@@ -14,6 +14,14 @@ from en17037cli.standard import LEVELS
 SUN_METHOD = ("sun position by NREL SPA (Reda and Andreas 2004); visibility sampled every sunlight.timestep_min, each "
               "change located by bisection to sunlight.tolerance_s; error = sum of remaining half-brackets; intervals "
               "shorter than the timestep may be missed")
+
+
+def sunlight_score(hours: float, level: int, thresholds: standard.LevelThresholds) -> dict:
+    """The sunlight score in report.json: hours on the assessed day [h], the score in [0, 3]
+    (:func:`en17037cli.standard.score_from_value`) and the margins to the neighbouring levels [h]."""
+    up, down = standard.margins(float(hours), level, thresholds)
+    return json_scores(float(standard.score_from_value([hours], thresholds)[0])) | {
+        "quantity": json_number(hours, 4), "unit": "h", "margin_up": json_number(up, 4), "margin_down": json_number(down, 4)}
 
 
 def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: str, settings: SunSettings, tz,
@@ -41,6 +49,7 @@ def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: st
         "required": required,
         "status": standard.status(level, required),
         "limiting": json_limit(limit),
+        "score": sunlight_score(res.hours[k], res.level, thresholds),
         "assessed_date": res.dates[k].isoformat(),
         "hours": json_number(res.hours[k], 4),
         "near_threshold": res.near_threshold,

@@ -57,7 +57,9 @@ class ViewCriterion(Criterion):
     def assess(self, ctx: Context, room, plan, progress=None) -> ViewResult:
         if "view_rays" not in ctx.cache:
             ctx.cache["view_rays"] = ViewRays(ctx.engine, ctx.scene)
-        return assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress)
+        reuse = ctx.cache.get("view_reuse", {}).get(room.name)  # set by the sensitivity study only
+        return assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress,
+                           reuse)
 
     def illustrate(self, ctx: Context, room, result: ViewResult):
         """The room in plan for the maps (:mod:`.pictures`); the values are in ``result``."""
@@ -67,4 +69,4 @@ class ViewCriterion(Criterion):
         return result.level
 
     def report(self, ctx: Context, room, result: ViewResult) -> dict:
-        return view_section(ctx.scene, result, self.required(room), self._settings(ctx))
+        return view_section(ctx.scene, result, self.required(room), self._settings(ctx), ctx.project.thresholds)

@@ -9,7 +9,7 @@ from en17037cli import standard
 from en17037cli.criteria.view.frames import RoomGeometry, room_geometry
 from en17037cli.criteria.view.gnomonic import patches
 from en17037cli.criteria.view.rays import ViewRays
-from en17037cli.criteria.view.results import LAYER_NAMES, EyeHeightResult, ViewPoints, ViewResult, concat
+from en17037cli.criteria.view.results import LAYER_NAMES, EyeHeightResult, SolidAngles, ViewPoints, ViewResult, concat
 from en17037cli.criteria.view.sight_angle import horizontal
 from en17037cli.criteria.view.solid_angle import solid_angles
 from en17037cli.project.settings import ViewSettings
@@ -48,27 +48,31 @@ def chunks(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> list
 
 
 def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings,
-                  thresholds: Thresholds, progress: Callable[[int], None] | None = None) -> ViewPoints | None:
+                  thresholds: Thresholds, progress: Callable[[int], None] | None = None,
+                  solid: SolidAngles | None = None) -> ViewPoints | None:
     """Every per-point quantity, level and error estimate for one set of viewpoints (vectorised).
 
     Parameters
     ----------
     points : (p, 3) float [m], local frame
+    solid : the solid angles of these same points from an earlier run whose solid-angle settings
+        were the same (the sensitivity study's distance statistics): not traced again
 
     Returns
     -------
     ViewPoints, or None without points
     """
-    solid, sight = [], []
+    solids, sight = [], []
     for sl in chunks(rg, points, settings):  # chunks bound memory; each chunk is vectorised
         chunk = points[sl]
-        solid.append(solid_angles(view_rays, rg, chunk, settings))
+        if solid is None:
+            solids.append(solid_angles(view_rays, rg, chunk, settings))
         sight.append(horizontal(view_rays, rg, chunk, settings))
         if progress:
             progress(len(chunk))
-    if not solid:
+    if not sight:
         return None
-    sa, hz = concat(solid), concat(sight)
+    sa, hz = (concat(solids) if solid is None else solid), concat(sight)
     src = hz if settings.distance_method == "horizontal" else sa
     dist, gap = src.distance_m, src.distance_gap_m
     thr = settings.layer_threshold_sr
@@ -88,19 +92,24 @@ def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, set
 
 
 def assess_room(view_rays: ViewRays, scene: Scene, room: Room, settings: ViewSettings, thresholds: Thresholds,
-                groups: tuple[list, list], progress: Callable[[int], None] | None = None) -> ViewResult:
+                groups: tuple[list, list], progress: Callable[[int], None] | None = None,
+                reuse: ViewResult | None = None) -> ViewResult:
     """View result of one room: per eye height, per point values, shares and levels.
 
     Parameters
     ----------
     groups : the room's :func:`~en17037cli.criteria.view.viewpoints.viewpoints` (made by the caller,
         which sizes a progress bar with them)
+    reuse : an earlier result of the room with the same viewpoints and solid-angle settings: its
+        solid angles are taken, not traced (the caller vouches for the settings)
     """
     rg = room_geometry(scene, room, settings.frame_depth_m)
     planned, notes = groups
     eye = []
     for h, pts in planned:  # one pass per eye height (two by default)
-        values = assess_points(view_rays, rg, pts, settings, thresholds, progress)
+        old = next((e.values for e in (reuse.eye_heights if reuse else ())
+                    if e.values is not None and e.points_local.shape == pts.shape and np.array_equal(e.points_local, pts)), None)
+        values = assess_points(view_rays, rg, pts, settings, thresholds, progress, None if old is None else old.solid)
         levels, share = {}, {}
         for crit in standard.VIEW_CRITERIA:
             levels[crit], share[crit] = standard.room_level([] if values is None else values.level_by_criterion[crit],

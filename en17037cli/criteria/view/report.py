@@ -5,8 +5,9 @@ import numpy as np
 
 from en17037cli import standard
 from en17037cli.criteria.view.results import LAYER_NAMES, ViewResult
+from en17037cli.criteria.view.scores import room_view_score, view_scores
 from en17037cli.project.settings import ViewSettings
-from en17037cli.report.numbers import json_limit, json_number, json_xyz
+from en17037cli.report.numbers import json_limit, json_number, json_scores, json_xyz
 from en17037cli.scene.model import Scene
 from en17037cli.standard import LEVELS, VIEW_CRITERIA
 
@@ -30,7 +31,8 @@ VIEW_METHOD = {
 }
 
 
-def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSettings) -> dict:
+def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSettings,
+                 thresholds: standard.Thresholds) -> dict:
     """The ``view`` section of a room in report.json (see ``schemas/report.schema.json``)."""
     eye_out = []
     err = {"solid_angle_sr": 0.0, "horizontal_sight_angle_deg": 0.0, "outside_distance_m": 0.0}
@@ -73,11 +75,13 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
     level = LEVELS[res.level]
     limit = standard.view_limit([(e.eye_height_m, e.share_by_level) for e in res.eye_heights], res.level, required,
                                 settings.area_fraction)
+    scores = view_scores(res, thresholds, settings.area_fraction)
     return {
         "level": level,
         "required": required,
         "status": standard.status(level, required),
         "limiting": json_limit(limit),
+        "score": json_scores(room_view_score(scores), scores),
         "error_estimates": {
             "max_solid_angle_error_sr": json_number(err["solid_angle_sr"]),
             "max_horizontal_sight_angle_error_deg": json_number(err["horizontal_sight_angle_deg"], 6),

@@ -8,17 +8,19 @@ from en17037cli.project.settings import ViewSettings
 from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene
 
 
-def grid_points(utilised, spacing_m: float) -> np.ndarray:
+def grid_points(utilised, spacing_m: float, offset: float = 0.0) -> np.ndarray:
     """Grid of points over a polygon, aligned with its minimum-area bounding rectangle.
 
     The grid is centred on the rectangle and symmetric, so rotating or mirroring the model
-    moves the grid with it. If no grid point falls inside (spacing larger than the area), the
-    polygon's centroid (or a point surely inside it) is used.
+    moves the grid with it; ``offset`` shifts it along both axes by that fraction of a cell. If
+    no grid point falls inside (spacing larger than the area), the polygon's centroid (or a
+    point surely inside it) is used.
 
     Parameters
     ----------
     utilised : shapely Polygon, local xy [m]
     spacing_m : float [m]
+    offset : float, fraction of ``spacing_m`` in [0, 1)
 
     Returns
     -------
@@ -34,8 +36,8 @@ def grid_points(utilised, spacing_m: float) -> np.ndarray:
     l1, l2 = np.linalg.norm(e1), np.linalg.norm(e2)
     e1, e2 = e1 / max(l1, 1e-12), e2 / max(l2, 1e-12)
     n1, n2 = int(np.floor(l1 / spacing_m + 1e-9)) + 1, int(np.floor(l2 / spacing_m + 1e-9)) + 1
-    a = (np.arange(n1) - (n1 - 1) / 2) * spacing_m
-    b = (np.arange(n2) - (n2 - 1) / 2) * spacing_m
+    a = (np.arange(-1, n1 + 1) - (n1 - 1) / 2 + offset) * spacing_m  # a row more each side: the shifted grid's
+    b = (np.arange(-1, n2 + 1) - (n2 - 1) / 2 + offset) * spacing_m  # points that fall inside (none when unshifted)
     A, B = np.meshgrid(a, b, indexing="ij")
     pts = centre + A.reshape(-1, 1) * e1 + B.reshape(-1, 1) * e2
     inside = shapely.contains_xy(utilised.buffer(1e-9), pts[:, 0], pts[:, 1])
@@ -68,7 +70,7 @@ def viewpoints(scene: Scene, room: Room, settings: ViewSettings) -> tuple[list, 
         if utilised.is_empty:
             raise NotAssessable(f"the utilised area (floor inset by view.wall_margin_m = {settings.wall_margin_m} m) is empty; "
                                 "reduce the margin or check the floor")
-        xy = grid_points(utilised, settings.grid_spacing_m)
+        xy = grid_points(utilised, settings.grid_spacing_m, settings.grid_offset)
         groups = [(float(h), np.column_stack([xy, np.full(len(xy), room.floor_z + h)])) for h in settings.eye_heights_m]
     out = []
     for h, p in groups:
