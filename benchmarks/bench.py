@@ -12,7 +12,9 @@ Speed is measured here, never in a timed test. Sections:
 4. **Scaling**: view time against triangles, viewpoints and angular resolution.
 5. **Pictures**: what the pictures of the client report add to ``en17037 check`` on the seed
    office (whole process, imports included): the median of 5 runs with and without ``--no-plots``.
-6. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
+6. **Sensitivity**: ``en17037 study sensitivity`` on the seed office, its cost as a multiple of
+   the check with the project's own settings (target: under 5 x).
+7. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
    :func:`en17037cli.samples.ifc.block`), wall time, stage times and peak memory against the
    number of rooms checked (1, 10, 100, 216), view and sunlight with the defaults.
 
@@ -193,6 +195,15 @@ def pictures_cost(repeat: int = 5) -> dict:
             "pictures_stage_s": stages.get("pictures"), "figures_stage_s": stages.get("figures")}
 
 
+def sensitivity_cost() -> dict:
+    """``study sensitivity`` on the seed office in a child process: total time and its ratio to the base run."""
+    with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run([sys.executable, "-m", "en17037cli", "study", "sensitivity", str(SAMPLES["seed-office"]), "--out", tmp],
+                       capture_output=True, text=True, check=True)
+        doc = json.loads((Path(tmp) / "sensitivity.json").read_text())
+    return {"project": "seed-office", **doc["cost"], "target_ratio": 5.0}
+
+
 #: Rooms checked in the whole-building section (of the block's 216).
 BLOCK_ROOMS = (1, 10, 100, 216)
 
@@ -252,7 +263,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "building")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "building")
 
 
 def main(argv=None) -> int:
@@ -296,6 +307,10 @@ def main(argv=None) -> int:
         result["pictures"] = pictures_cost()
         _table("Pictures of the client report: check with and without --no-plots, median of 5 [s]", [result["pictures"]],
                ["project", "with_pictures_s", "without_pictures_s", "added_s", "pictures_stage_s", "figures_stage_s"])
+    if "sensitivity" in args.only:
+        result["sensitivity"] = sensitivity_cost()
+        _table("Sensitivity study against one check (seed office) [s]", [result["sensitivity"]],
+               ["project", "base_s", "total_s", "ratio", "target_ratio"])
     if "building" in args.only:
         result["building"] = whole_building(args.quick)
         _table("Whole building: the generated IFC apartment block, defaults [s, MB]", result["building"],
