@@ -46,13 +46,13 @@ def write_reports(result, out_dir) -> dict:
     from pathlib import Path
 
     from en17037cli.report.document import build_report
-    from en17037cli.report.figures import render_figures
+    from en17037cli.report.figures import pictures_available, render_figures
     from en17037cli.report.folder import check_folder
     from en17037cli.report.write import WRITERS
     from en17037cli.report.write import write_reports as write
 
     check_folder(Path(out_dir), result.project.path, WRITERS)
-    figures = render_figures(result) if any(r.illustrations for r in result.rooms) else []
+    figures = render_figures(result) if any(r.illustrations for r in result.rooms) and pictures_available() else []
     report = build_report(result)
     write(report, Path(out_dir), result.project.path, figures)
     return report

@@ -136,7 +136,7 @@ def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, qu
     from en17037cli.preflight import MAX_POINTS
     from en17037cli.project import load_project
     from en17037cli.report.document import build_report
-    from en17037cli.report.figures import render_figures
+    from en17037cli.report.figures import pictures_available, render_figures
     from en17037cli.report.folder import check_folder, default_folder
     from en17037cli.report.write import WRITERS, write_reports
 
@@ -145,16 +145,22 @@ def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, qu
     def run():
         project = load_project(project_file, list(overrides))
         check_folder(out, project.path, WRITERS)  # before any work: a folder we may not write stops here
-        warm = None if no_plots else _warm_up_pictures()
-        bar, progress = _progress_factory(not quiet and sys.stderr.isatty())
-        if bar is not None:
-            with bar:
-                result = pipeline.run(project, only, progress, max_points or MAX_POINTS, pictures=not no_plots)
-        else:
-            result = pipeline.run(project, only, max_points=max_points or MAX_POINTS, pictures=not no_plots)
-        if warm is not None:
-            warm.join()
-        figures = [] if no_plots else render_figures(result)
+        plots = not no_plots and pictures_available()
+        painters = _painters() if plots else None
+        try:
+            bar, progress = _progress_factory(not quiet and sys.stderr.isatty())
+            if bar is not None:
+                with bar:
+                    result = pipeline.run(project, only, progress, max_points or MAX_POINTS, pictures=plots)
+            else:
+                result = pipeline.run(project, only, max_points=max_points or MAX_POINTS, pictures=plots)
+            figures = render_figures(result, painters) if plots else []
+        finally:
+            if painters is not None:
+                painters.close()
+        if not no_plots and not plots:
+            result.warnings.append("no pictures: they need matplotlib (pip install 'en17037cli[plot]'); "
+                                   "report.html and report.md are written without them")
         report = build_report(result)
         write_reports(report, out, project.path, figures)
         return report
@@ -166,22 +172,16 @@ def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, qu
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
 
 
-def _warm_up_pictures():
-    """Import matplotlib and load its font in a background thread while the run traces rays (the
-    run's numpy and Embree work leaves the interpreter free most of the time); join before drawing."""
-    import threading
+def _painters():
+    """Two worker processes that load matplotlib while the run traces rays and then draw the pictures
+    (:class:`~en17037cli.report.figures.Painters`); None where processes cannot be forked (the
+    pictures are then drawn in this process)."""
+    from en17037cli.report.figures import Painters
 
-    from en17037cli.report.pictures.canvas import warm_up
-
-    def safe():
-        try:
-            warm_up()
-        except Exception:  # noqa: BLE001 - drawing later reports any real problem
-            pass
-
-    t = threading.Thread(target=safe, name="en17037-warm-up", daemon=True)
-    t.start()
-    return t
+    try:
+        return Painters(1)
+    except (OSError, ValueError, ImportError):
+        return None
 
 
 def _exit_on_sigterm():

@@ -43,15 +43,35 @@ def room_slug(index: int, name: str) -> str:
 
 
 def _layer_mask(visible: dict) -> np.ndarray:
-    from en17037cli.report.pictures import GROUND, LANDSCAPE, SKY
+    from en17037cli.report.pictures.colours import GROUND, LANDSCAPE, SKY
 
     return (visible["sky"] * SKY + visible["landscape"] * LANDSCAPE + visible["ground"] * GROUND).astype(float)
 
 
-def view_figures(result: RunResult, i: int, slug: str) -> list[Figure]:
-    """The plan maps of room ``i``: four per eye height."""
-    from en17037cli.report.pictures import plan_map
+@dataclass(frozen=True)
+class Job:
+    """One picture to draw: its :class:`Figure` fields and the drawing call (a function of
+    :mod:`en17037cli.report.pictures` by name, with plain arguments), so any process can draw it."""
 
+    name: str
+    room: str
+    section: str
+    caption: str
+    draw: str  # "plan_map" | "hours_chart" | "fisheye"
+    args: tuple
+    kwargs: dict
+
+
+def draw(job: Job) -> Figure:
+    """Draw one job into a :class:`Figure`."""
+    from en17037cli.report import pictures
+
+    png = getattr(pictures, job.draw)(*job.args, **job.kwargs)
+    return Figure(job.name, job.room, job.section, job.caption, png)
+
+
+def view_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
+    """The plan maps of room ``i``: four per eye height."""
     r = result.rooms[i]
     res, plan = r.assessed("view"), r.illustrations.get("view")
     if res is None or plan is None:
@@ -69,18 +89,16 @@ def view_figures(result: RunResult, i: int, slug: str) -> list[Figure]:
         for kind, words in MAP_KINDS.items():
             vals, thresholds = values[kind]
             title = f"{r.room.name}: {words}, eye height {e.eye_height_m:g} m"
-            png = plan_map(xy, vals, kind=kind, thresholds=thresholds, floor=plan.floor, utilised=plan.utilised,
-                           windows=plan.windows, true_north_deg=plan.true_north_deg, near=v.near, spacing_m=plan.spacing_m,
-                           title=title)
-            out.append(Figure(f"{FIGURES_DIR}/{slug}-view-{e.eye_height_m:g}m-{kind.replace('_', '-')}.png", r.room.name,
-                              "view", title, png))
+            out.append(Job(f"{FIGURES_DIR}/{slug}-view-{e.eye_height_m:g}m-{kind.replace('_', '-')}.png", r.room.name, "view",
+                           title, "plan_map", (xy, vals),
+                           {"kind": kind, "thresholds": thresholds, "floor": plan.floor, "utilised": plan.utilised,
+                            "windows": plan.windows, "true_north_deg": plan.true_north_deg, "near": v.near,
+                            "spacing_m": plan.spacing_m, "title": title}))
     return out
 
 
-def sunlight_figures(result: RunResult, i: int, slug: str) -> list[Figure]:
+def sunlight_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
     """The hours chart of room ``i`` and the fisheye of each of its windows with a point P."""
-    from en17037cli.report.pictures import fisheye, hours_chart
-
     r = result.rooms[i]
     res = r.assessed("sunlight")
     if res is None:
@@ -91,25 +109,62 @@ def sunlight_figures(result: RunResult, i: int, slug: str) -> list[Figure]:
     if res.window_hours is not None and len(r.room.windows) > 1:
         per_window = {w.name: res.window_hours[k] for k, w in enumerate(r.room.windows) if np.isfinite(res.window_hours[k]).any()}
     title = f"{r.room.name}: hours of sunlight per day"
-    out = [Figure(f"{FIGURES_DIR}/{slug}-sunlight-hours.png", r.room.name, "sunlight", title,
-                  hours_chart(res.dates, res.hours, thresholds=th, assessed_index=res.assessed_index, per_window=per_window,
-                              title=title))]
+    out = [Job(f"{FIGURES_DIR}/{slug}-sunlight-hours.png", r.room.name, "sunlight", title, "hours_chart",
+               (res.dates, res.hours), {"thresholds": th, "assessed_index": res.assessed_index, "per_window": per_window,
+                                        "title": title})]
     for k, f in enumerate(r.illustrations.get("sunlight") or ()):
         paths = [{"label": p.label, "azimuth_deg": p.azimuth_deg, "altitude_deg": p.altitude_deg, "visible": p.visible,
                   "hour_marks": p.hour_marks} for p in f.paths]
         title = f"{r.room.name}: from point P of window '{f.window}'"
-        png = fisheye(f.image, sun_paths=paths, min_altitude_deg=settings.min_altitude_deg if settings else 0.0,
-                      view_azimuth_deg=f.view_azimuth_deg, title=title)
-        out.append(Figure(f"{FIGURES_DIR}/{slug}-sunlight-fisheye-{k + 1}.png", r.room.name, "sunlight", title, png))
+        out.append(Job(f"{FIGURES_DIR}/{slug}-sunlight-fisheye-{k + 1}.png", r.room.name, "sunlight", title, "fisheye",
+                       (f.image,), {"sun_paths": paths, "min_altitude_deg": settings.min_altitude_deg if settings else 0.0,
+                                    "view_azimuth_deg": f.view_azimuth_deg, "title": title}))
     return out
 
 
-def render_figures(result: RunResult) -> list[Figure]:
-    """Every picture of a run (a run made with ``pictures=True``), room by room; the time goes to
-    the run's ``figures`` stage."""
+def figure_jobs(result: RunResult) -> list[Job]:
+    """Every picture of a run (a run made with ``pictures=True``), room by room, as jobs."""
     out = []
     for i, r in enumerate(result.rooms):
         slug = room_slug(i, r.room.name)
-        out += view_figures(result, i, slug) + sunlight_figures(result, i, slug)
+        out += view_jobs(result, i, slug) + sunlight_jobs(result, i, slug)
+    return out
+
+
+def pictures_available() -> bool:
+    """Whether matplotlib (the ``plot`` extra) is installed: without it a run writes no pictures."""
+    import importlib.util
+
+    return importlib.util.find_spec("matplotlib") is not None
+
+
+def render_figures(result: RunResult, pool=None) -> list[Figure]:
+    """Every picture of a run, drawn here or by ``pool`` (a :class:`Painters`); the time goes to the
+    run's ``figures`` stage."""
+    jobs = figure_jobs(result)
+    out = pool.draw(jobs) if pool is not None else [draw(j) for j in jobs]
     result.timer.stage("figures")
     return out
+
+
+class Painters:
+    """Worker processes that import matplotlib and load its font as soon as they start (while the
+    run traces rays in the parent), then draw the pictures in parallel. Start it before the ray
+    engine (the workers are forked); the figures come back in the jobs' order, byte-identical to
+    drawing them in the parent."""
+
+    def __init__(self, workers: int = 2):
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        from en17037cli.report.pictures.canvas import warm_up
+
+        self._pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+                                         initializer=warm_up)
+        self._ready = [self._pool.submit(int) for _ in range(workers)]  # start every worker now
+
+    def draw(self, jobs: list[Job]) -> list[Figure]:
+        return list(self._pool.map(draw, jobs))
+
+    def close(self) -> None:
+        self._pool.shutdown(wait=False, cancel_futures=True)

@@ -194,3 +194,16 @@ def test_html_in_a_headless_browser(report_folder, tmp_path):
     assert px.shape[:2] == (1400, 1000) and px.std() > 0.1  # not blank
     badge = [np.array(c) / 255 for c in ((0xB4, 0x23, 0x18), (0x1A, 0x7F, 0x37))]  # FAIL red, PASS green
     assert any(np.count_nonzero(np.all(np.abs(px - c) < 0.02, axis=-1)) > 100 for c in badge)
+
+
+def test_without_matplotlib_the_check_writes_its_reports_without_pictures(tmp_path, monkeypatch):
+    """A plain install (no 'plot' extra): the reports come without pictures and say why."""
+    from en17037cli.report import figures
+
+    monkeypatch.setattr(figures, "pictures_available", lambda: False)
+    p = box_room_project(tmp_path / "box", BoxRoom(), sunlight=SUN, view=FAST_VIEW)
+    r = CliRunner().invoke(cli, ["check", str(p), "--out", str(tmp_path / "out"), "-q"])
+    assert r.exit_code in (0, 1), r.output
+    assert not (tmp_path / "out" / "figures").exists() and "<img" not in (tmp_path / "out" / "report.html").read_text()
+    doc = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert any(w.startswith("no pictures: they need matplotlib") for w in doc["warnings"])
