@@ -14,7 +14,9 @@ Speed is measured here, never in a timed test. Sections:
    office (whole process, imports included): the median of 5 runs with and without ``--no-plots``.
 6. **Sensitivity**: ``en17037 study sensitivity`` on the seed office, its cost as a multiple of
    the check with the project's own settings (target: under 5 x).
-7. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
+7. **City context**: reading a generated 10,000-building CityJSON tile (3D BAG-like, LoD 2.2;
+   ``scripts/make_cityjson_tile.py``) in a child process: wall time and peak memory.
+8. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
    :func:`en17037cli.samples.ifc.block`), wall time, stage times and peak memory against the
    number of rooms checked (1, 10, 100, 216), view and sunlight with the defaults.
 
@@ -195,6 +197,28 @@ def pictures_cost(repeat: int = 5) -> dict:
             "pictures_stage_s": stages.get("pictures"), "figures_stage_s": stages.get("figures")}
 
 
+_CITYJSON_READ = (
+    "import json, resource, sys, time\n"
+    "from pathlib import Path\n"
+    "from en17037cli.io import read_model\n"
+    "t = time.perf_counter(); m = read_model(Path(sys.argv[1])); wall = time.perf_counter() - t\n"
+    "print(json.dumps({'wall_s': wall, 'triangles': len(m.triangles), 'parts': len(m.parts),"
+    " 'peak_mb': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))\n"
+)
+
+
+def cityjson_tile(n: int = 10_000) -> dict:
+    """Read a generated ``n``-building CityJSON tile in a child process: wall [s], triangles, peak [MB]."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / f"tile-{n}.city.json"
+        subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cityjson_tile.py"), "-n", str(n), "-o", str(path)],
+                       capture_output=True, text=True, check=True)
+        runs = [json.loads(subprocess.run([sys.executable, "-c", _CITYJSON_READ, str(path)], capture_output=True, text=True,
+                                          check=True).stdout) for _ in range(3)]
+    best = min(runs, key=lambda r: r["wall_s"])
+    return {"buildings": n, **best}
+
+
 def sensitivity_cost() -> dict:
     """``study sensitivity`` on the seed office in a child process: total time and its ratio to the base run."""
     with tempfile.TemporaryDirectory() as tmp:
@@ -263,7 +287,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "building")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building")
 
 
 def main(argv=None) -> int:
@@ -311,6 +335,10 @@ def main(argv=None) -> int:
         result["sensitivity"] = sensitivity_cost()
         _table("Sensitivity study against one check (seed office) [s]", [result["sensitivity"]],
                ["project", "base_s", "total_s", "ratio", "target_ratio"])
+    if "cityjson" in args.only:
+        result["cityjson"] = cityjson_tile()
+        _table("City context: a 10,000-building CityJSON tile read (best of 3, child process) [s, MB]", [result["cityjson"]],
+               ["buildings", "triangles", "parts", "wall_s", "peak_mb"])
     if "building" in args.only:
         result["building"] = whole_building(args.quick)
         _table("Whole building: the generated IFC apartment block, defaults [s, MB]", result["building"],
