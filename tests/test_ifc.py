@@ -96,6 +96,20 @@ def test_bad_ifc_files_are_one_line_errors(tmp_path, content, message):
     assert message in str(e.value) and str(e.value).startswith(str(p)) and "\n" not in str(e.value)
 
 
+def test_a_broken_line_mid_file_is_an_error_not_half_a_model(tmp_path):
+    """ifcopenshell stops at a broken STEP line without raising; the reader counts the instances
+    and names the line, instead of returning the part of the model before it."""
+    lines = (ROOT / "sample_projects" / "ifc-house" / "house.ifc").read_text().split("\n")
+    k = next(i for i, line in enumerate(lines) if line.startswith("#386="))
+    lines[k] = lines[k][:20] + "((garbage" + lines[k][20:]
+    p = tmp_path / "broken.ifc"
+    p.write_text("\n".join(lines))
+    with pytest.raises(InputError) as e:
+        read_model(p)
+    assert str(e.value).startswith(f"{p}: broken IFC (STEP) data at line {k + 1} (#386): only ")
+    assert "re-export the model or repair that line" in str(e.value) and "\n" not in str(e.value)
+
+
 def project(tmp_path: Path, ifc: Path, **extra) -> Path:
     doc = {"version": 1, "name": "house", "model": {"files": [{"path": str(ifc)}]},
            "location": {"timezone": "Europe/Amsterdam"}, "rooms": [{"ifc_spaces": "*"}],

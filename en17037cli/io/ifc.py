@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -79,10 +80,10 @@ def _open(path: Path):
     except ImportError:
         raise InputError(f"{path}: reading IFC needs ifcopenshell: pip install 'en17037cli[ifc]'") from None
     try:
-        head = path.read_bytes()[:64]
+        data = path.read_bytes()
     except OSError as exc:
         raise InputError(f"{path}: cannot read model file: {exc.strerror}") from None
-    if not head.lstrip().startswith(b"ISO-10303-21"):
+    if not data[:64].lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"ISO-10303-21"):
         raise InputError(f"{path}: not an IFC file (no ISO-10303-21 header); export the model as IFC (STEP)")
     try:
         f = ifcopenshell.open(str(path))
@@ -91,7 +92,26 @@ def _open(path: Path):
         raise InputError(f"{path}: cannot read the IFC file ({msg}); re-export it") from None
     if f.schema not in ("IFC2X3", "IFC4", "IFC4X3", "IFC4X3_ADD2"):
         raise InputError(f"{path}: IFC schema {f.schema} is not read; export IFC2X3, IFC4 or IFC4X3")
+    check_all_read(path, data, f)
     return f
+
+
+def check_all_read(path: Path, data: bytes, f) -> None:
+    """InputError naming the line where ifcopenshell stopped, when it read fewer instances than the
+    file defines: on a broken STEP line it may stop without an error, and a model read in part
+    would give a wrong answer, not a failed one."""
+    read = len(f.entity_names())
+    if read >= data.count(b"\n#"):  # cheap: no more instance lines than instances read
+        return
+    defined = [(int(m.group(1)), m.start()) for m in re.finditer(rb"(?m)^[ \t]*#(\d+)[ \t]*=", data)]
+    if read >= len(defined):
+        return
+    names = set(f.entity_names())
+    k = next(i for i, (sid, _) in enumerate(defined) if sid not in names)
+    sid, offset = defined[k]  # the first instance missing: reading stopped on its line
+    line = data.count(b"\n", 0, offset) + 1
+    raise InputError(f"{path}: broken IFC (STEP) data at line {line} (#{sid}): only {read} of {len(defined)} instances "
+                     "could be read; re-export the model or repair that line")
 
 
 def compound_degrees(v) -> float | None:
