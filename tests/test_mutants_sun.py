@@ -191,3 +191,10 @@ def test_bisection_halves_to_the_given_width_or_count():
     assert len(lo6) == 0
     with pytest.raises(ValueError):
         bisect_transitions(above, key, lo, hi, np.zeros(3, bool))
+
+
+def test_refraction_applies_down_to_the_sunrise_limit_itself():
+    """SPA eq. 42: the correction applies where e0 >= -(0.26667 + 0.5667) deg, the limit included."""
+    e0 = np.array([-(0.26667 + 0.5667)])
+    expected = (1010.0 / 1010.0) * (283.0 / 283.0) * 1.02 / (60.0 * np.tan(np.radians(e0 + 10.3 / (e0 + 5.11))))
+    assert sp.refraction_correction(e0, 1010.0, 10.0)[0] == pytest.approx(expected[0], rel=1e-12)

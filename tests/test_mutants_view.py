@@ -291,3 +291,38 @@ def test_round_window_cells_add_up_to_the_exact_pane(build):
         total = sum(r.solid.sr[k][i] for k in ("sky", "landscape", "ground"))
         # the frame ring (5 cm, 2 cm inside) hides a thin annulus of the pane's edge; nothing else
         assert total <= exact + 1e-9
+
+
+def test_clipped_heptagon_uses_every_fan_triangle():
+    """A triangle cut by all four sides of a rectangle leaves a heptagon (three cut corners): the
+    most vertices a clip can have, so the last fan slot is used. Checked against shapely."""
+    rect = np.array([[-1.0, 1.0, -1.0, 1.0]])
+    # edges x + y = 1.5 (cuts the top-right corner), y - 3x = 2.6 (top-left), x - 3y = 2.6 (bottom-right);
+    # the bottom-left corner lies inside
+    lines = [(1.0, 1.0, 1.5), (-3.0, 1.0, 2.6), (1.0, -3.0, 2.6)]
+
+    def meet(a, b):
+        m = np.array([[a[0], a[1]], [b[0], b[1]]])
+        return np.linalg.solve(m, [a[2], b[2]])
+    tri = np.array([[meet(lines[0], lines[1]), meet(lines[1], lines[2]), meet(lines[2], lines[0])]])
+    poly = shapely.Polygon(tri[0]).intersection(shapely.box(-1, -1, 1, 1))
+    assert len(poly.exterior.coords) - 1 == 7
+    om, cen = clipped_solid_angle(tri, rect)
+    assert abs(om[0] - _fan_solid_angle(shapely.geometry.polygon.orient(poly).exterior.coords)) < 1e-12
+    assert np.allclose(cen[0], [poly.centroid.x, poly.centroid.y], atol=1e-12)
+
+
+@pytest.mark.parametrize("res", [5.0, 9.0])
+def test_unobstructed_triangular_window_layers_add_up_to_its_solid_angle(build, res):
+    """No building: every direction through the glass is sky or ground. Coarse cells near the
+    triangle's acute corners have no corner sample inside the glass; their extra sample inside
+    the glazing must still give them a layer, so the layers add up to the exact solid angle."""
+    box = BoxRoom(triangle_window=True, building_height=0)
+    b = build(box, view={"angular_resolution_deg": res, "refine_levels": 0})
+    pts = np.array([[0.3, 2.0, 1.2], [-0.8, 0.5, 1.7], [1.2, 0.4, 1.2], [0.9, 0.3, 2.0]])
+    r = b.view_points(pts)
+    tri = np.array([[[-1.0, 0.0, 0.8], [1.0, 0.0, 0.8], [-1.0, 0.0, 2.2]]])
+    for i, p in enumerate(pts):
+        exact = float(triangle_solid_angle(p[None], tri)[0])
+        total = sum(r.solid.sr[k][i] for k in ("sky", "landscape", "ground"))
+        assert abs(r.solid.glazing_sr[i] - exact) < 1e-9 and abs(total - exact) < 1e-9, (i, total, exact)
