@@ -45,13 +45,15 @@ def main() -> int:
     counts = Counter(status.values())
     listed = {k for k in equivalent if k in status}
     killed = sum(1 for k, s in status.items() if s in ("killed", "timeout") and k not in listed)
-    denominator = len(status) - len(listed)
+    unchecked = sum(1 for s in status.values() if s == "not checked")  # an interrupted run
+    denominator = len(status) - len(listed) - unchecked
     print(f"mutants: {len(status)}  " + "  ".join(f"{k}: {v}" for k, v in sorted(counts.items())))
     print(f"equivalent (docs/mutation.md): {len(listed)}"
           + (f"  (listed but killed: {sorted(k for k in listed if status[k] != 'survived')})"
              if any(status[k] != "survived" for k in listed) else ""))
-    print(f"score: {killed} killed / {denominator} non-equivalent = {100.0 * killed / max(denominator, 1):.1f} %")
-    open_ = sorted(k for k, s in status.items() if s not in ("killed", "timeout") and k not in listed)
+    print(f"score: {killed} killed / {denominator} non-equivalent checked = {100.0 * killed / max(denominator, 1):.1f} %"
+          + (f"  ({unchecked} not checked: the run was interrupted)" if unchecked else ""))
+    open_ = sorted(k for k, s in status.items() if s not in ("killed", "timeout", "not checked") and k not in listed)
     print(f"surviving, not listed as equivalent: {len(open_)}")
     for key in open_:
         print(f"  {key}: {status[key]}")

@@ -75,6 +75,39 @@ def test_sight_angle_without_transitions_is_exact(build):
     assert np.allclose(r.sight.angle_err_deg, 0.01, rtol=0, atol=1e-12)  # two insets of tolerance / 2
 
 
+def test_sight_angle_of_a_window_facing_azimuth_zero(build):
+    """The model turned 90 deg: the window faces +x, so its fan straddles azimuth 0 = 2 pi and is
+    split there; the sight angle is the same hand value."""
+    b = build(BoxRoom(), rotate_deg=90.0)
+    pts = np.array([[0.3, 2.0, 1.2], [-1.2, 5.5, 1.7], [1.5, 0.6, 1.2]])
+    c, s = 0.0, 1.0  # rotation by 90 deg counter-clockwise: (x, y) -> (-y, x)
+    rotated = np.column_stack([c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1], pts[:, 2]])
+    r = b.view_points(rotated)
+    exact = np.array([sight_angle_deg(p[0], p[1]) for p in pts])
+    assert np.allclose(r.sight.angle_deg, exact, rtol=0, atol=1e-9), r.sight.angle_deg - exact
+    assert np.allclose(r.distance_m, 25.0, atol=1e-3)
+
+
+def test_no_window_at_eye_height_from_any_point(build):
+    """Every eye above the window head: no horizontal ray meets a window, nothing is traced."""
+    b = build(BoxRoom())
+    r = b.view_points(np.array([[0.4, 3.0, 2.3], [-0.5, 2.0, 2.5]]))
+    assert r.sight.angle_deg.tolist() == [0.0, 0.0] and r.sight.angle_err_deg.tolist() == [0.0, 0.0]
+    assert r.sight.rays.tolist() == [0, 0] and r.sight.transitions.tolist() == [0, 0]
+
+
+def test_a_tolerance_coarser_than_the_fan_step_bisects_nothing(build):
+    """angle_tolerance_deg >= horizontal_resolution_deg: the fan samples are already that close, so
+    no bisection ray is traced and each transition's bracket is one fan step (<= 0.2 deg)."""
+    box = BoxRoom(depth=8.0, mullions=(-0.35, 0.35))
+    b = build(box, view={"horizontal_resolution_deg": 0.2, "angle_tolerance_deg": 0.4})
+    r = b.view_points(MULLION_PTS[:3])
+    width = np.array([sight_angle_deg(p[0], p[1]) for p in MULLION_PTS[:3]])
+    assert r.sight.rays.tolist() == (np.ceil(width / 0.2 - 1e-9) + 1).astype(int).tolist()
+    exact = np.array([mullion_sight_deg(p, box) for p in MULLION_PTS[:3]])
+    assert np.all(np.abs(r.sight.angle_deg - exact) <= 4 * 0.5 * 0.2 + FLOAT32_DEG)
+
+
 def test_eye_at_the_head_height_sees_the_limit_from_inside(build):
     """An eye exactly at the window head (2.2 m) is moved 1e-6 m down: the full window width."""
     b = build(BoxRoom())
@@ -326,3 +359,4 @@ def test_unobstructed_triangular_window_layers_add_up_to_its_solid_angle(build, 
         exact = float(triangle_solid_angle(p[None], tri)[0])
         total = sum(r.solid.sr[k][i] for k in ("sky", "landscape", "ground"))
         assert abs(r.solid.glazing_sr[i] - exact) < 1e-9 and abs(total - exact) < 1e-9, (i, total, exact)
+        assert r.solid.sr["landscape"][i] == 0.0  # no building: no landscape, whatever lies outside the outline
