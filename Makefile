@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint bench install samples clean
+.PHONY: demo test lint bench install samples clean mutation
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -29,8 +29,21 @@ lint: $(STAMP)
 test: lint
 	$(PY) -m pytest
 
+# Mutation testing of the numeric core (docs/mutation.md); not part of `make test` or CI. About
+# 40 min on 2 cores. pvlib (the independent SPA of tests/test_mutants_spa.py) is installed without
+# its dependencies: its pandas and scipy would change what tests/test_robustness.py measures.
+MUTATION_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+mutation: $(STAMP)
+	$(PY) -m pip install --quiet 'mutmut>=3.2,<4'
+	$(PY) -m pip install --quiet --no-deps 'pvlib>=0.11'
+	rm -rf mutants
+	@start=$$(date +%s); \
+	  $(VENV)/bin/mutmut run --max-children $(MUTATION_JOBS) > mutation-run.log 2>&1; code=$$?; \
+	  echo "mutmut run: exit $$code, $$(( ($$(date +%s) - start) / 60 )) min on $(MUTATION_JOBS) jobs (log: mutation-run.log)"
+	$(PY) scripts/mutation_report.py
+
 bench: $(STAMP) samples
 	$(PY) benchmarks/bench.py --out bench.json
 
 clean:
-	rm -rf $(VENV) out .pytest_cache .hypothesis .mypy_cache .ruff_cache
+	rm -rf $(VENV) out .pytest_cache .hypothesis .mypy_cache .ruff_cache mutants mutation-run.log
