@@ -173,13 +173,13 @@ def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, qu
 
 
 def _painters():
-    """Two worker processes that load matplotlib while the run traces rays and then draw the pictures
+    """A worker process that loads matplotlib while the run traces rays and then draws the pictures
     (:class:`~en17037cli.report.figures.Painters`); None where processes cannot be forked (the
     pictures are then drawn in this process)."""
     from en17037cli.report.figures import Painters
 
     try:
-        return Painters(1)
+        return Painters()
     except (OSError, ValueError, ImportError):
         return None
 

@@ -15,7 +15,8 @@ import shapely
 from en17037cli.criteria.view.distance import pad_rows, ragged_statistic, weighted_statistic
 from en17037cli.geometry import clipped_solid_angle, in_triangle, points_in_triangles, rectangle_solid_angle, triangle_solid_angle
 from en17037cli.geometry.planar import area2, clip_halfplane
-from en17037cli.samples import MULLION_GAP, BoxRoom, layer_solid_angles, rect_solid_angle_y0, sight_angle_deg
+from en17037cli.samples import MULLION_GAP, BoxRoom
+from tests.oracles import layer_solid_angles, rect_solid_angle_y0, sight_angle_deg
 
 # float32 ray directions and distances (Embree): ~1e-7 relative, i.e. < 1e-5 deg of azimuth
 FLOAT32_DEG = 1e-5
@@ -134,7 +135,7 @@ def test_layer_errors_stop_within_the_requested_tolerance(build):
     # and the values are that close to the hand values (the estimate is half the mixed cells,
     # a bound on each cell's misassigned part)
     for i, p in enumerate(PTS):
-        for key, exact in zip(("sky", "landscape", "ground"), layer_solid_angles(p, BoxRoom())):
+        for key, exact in zip(("sky", "landscape", "ground"), layer_solid_angles(p)):
             assert abs(r.solid.sr[key][i] - exact) <= max(rel * exact, abs_) + 1e-12, (i, key)
 
 
@@ -156,7 +157,7 @@ def test_layer_error_is_half_the_cells_on_the_boundary_line(build):
         beta = np.arctan2(z_top - z0, y0)
         lo, hi = (z0 + y0 * np.tan(beta + s * np.radians(res)) for s in (-1, 1))
         strip = rect_solid_angle_y0(-1, 1, max(lo, 0.8), min(hi, 2.2), p)
-        sky = layer_solid_angles(p, box)[0]
+        sky = layer_solid_angles(p)[0]
         assert abs(r.solid.sr["sky"][i] - sky) <= r.solid.err_sr["sky"][i] + 1e-12
         assert 0 < r.solid.err_sr["sky"][i] <= 0.5 * strip, (i, r.solid.err_sr["sky"][i], 0.5 * strip)
 

@@ -148,23 +148,52 @@ def render_figures(result: RunResult, pool=None) -> list[Figure]:
 
 
 class Painters:
-    """Worker processes that import matplotlib and load its font as soon as they start (while the
-    run traces rays in the parent), then draw the pictures in parallel. Start it before the ray
-    engine (the workers are forked); the figures come back in the jobs' order, byte-identical to
-    drawing them in the parent."""
+    """A worker process, forked before the run, that imports matplotlib and loads its font while the
+    run traces rays in the parent, then draws the pictures it is sent. The figures come back in the
+    jobs' order, byte-identical to drawing them in the parent. The worker ignores Ctrl-C and is
+    ended by :meth:`close`, so an interrupted run leaves nothing behind."""
 
-    def __init__(self, workers: int = 2):
+    def __init__(self):
         import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
 
-        from en17037cli.report.pictures.canvas import warm_up
-
-        self._pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
-                                         initializer=warm_up)
-        self._ready = [self._pool.submit(int) for _ in range(workers)]  # start every worker now
+        ctx = multiprocessing.get_context("fork")
+        self._conn, child = ctx.Pipe()
+        self._proc = ctx.Process(target=_paint, args=(child,), name="en17037-pictures", daemon=True)
+        self._proc.start()
+        child.close()
 
     def draw(self, jobs: list[Job]) -> list[Figure]:
-        return list(self._pool.map(draw, jobs))
+        self._conn.send(jobs)
+        out = self._conn.recv()
+        if isinstance(out, BaseException):
+            raise out
+        return out
 
     def close(self) -> None:
-        self._pool.shutdown(wait=False, cancel_futures=True)
+        import contextlib
+
+        with contextlib.suppress(OSError):
+            self._conn.close()
+        if self._proc.is_alive():
+            self._proc.terminate()
+        self._proc.join(timeout=5)
+
+
+def _paint(conn) -> None:
+    """The worker of :class:`Painters`: warm up, draw one batch of jobs, send the figures back."""
+    import signal
+
+    from en17037cli.report.pictures.canvas import warm_up
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends this process
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    warm_up()
+    try:
+        jobs = conn.recv()
+    except (EOFError, OSError):
+        return
+    try:
+        out: object = [draw(j) for j in jobs]
+    except Exception as exc:  # noqa: BLE001 - sent back and raised in the parent
+        out = exc
+    conn.send(out)
