@@ -19,6 +19,9 @@ Speed is measured here, never in a timed test. Sections:
 8. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
    :func:`en17037cli.samples.ifc.block`), wall time, stage times and peak memory against the
    number of rooms checked (1, 10, 100, 216), view and sunlight with the defaults.
+9. **Dask**: ``en17037 batch --scheduler local`` on the block's first 108 rooms (defaults) with 1
+   and 2 local workers (each with cores // workers ray-tracing threads): rooms per second, and a
+   check that both give the same summary.
 
 Usage: ``python benchmarks/bench.py [--out bench.json] [--quick] [--only SECTION ...]`` from the
 repository (it needs ``sample_projects/``).
@@ -268,11 +271,61 @@ def whole_building(quick: bool) -> list:
     return rows
 
 
+#: Rooms of the block the Dask section checks (``--quick``: a third), and its numbers of local workers.
+DASK_ROOMS = 108
+DASK_WORKERS = (1, 2)
+
+
+def dask_scaling(quick: bool) -> list:
+    """Rooms per second of a batch on a Dask LocalCluster (worker processes) against its workers.
+
+    The wall time runs from submitting the batch to its last report folder written (the cluster's
+    start-up is timed apart); every worker opens the block (reads the IFC, builds its ray engine)
+    once and assesses groups of rooms (:data:`en17037cli.batch.ROOMS_PER_TASK`).
+    """
+    from en17037cli.batch import make_executor, plan_runs, run_batch
+    from en17037cli.raytrace import available_cores
+    from en17037cli.report.summary import COLUMNS, TIME_COLUMNS, summary_csv
+
+    def untimed(text: str) -> list:
+        keep = [i for i, c in enumerate(COLUMNS) if c not in TIME_COLUMNS]
+        import csv
+
+        return [[r[i] for i in keep] for r in csv.reader(text.splitlines())]
+
+    rows, summaries = [], []
+    n_rooms = DASK_ROOMS // 3 if quick else DASK_ROOMS
+    with tempfile.TemporaryDirectory() as tmp:
+        project = block_project(Path(tmp), n_rooms)
+        for workers in DASK_WORKERS:
+            t0 = time.perf_counter()
+            executor = make_executor(jobs=workers, scheduler="local")
+            t1 = time.perf_counter()
+            try:
+                records = run_batch(plan_runs([str(project)]), executor, Path(tmp) / f"out-{workers}")
+            finally:
+                executor.close()
+            t2 = time.perf_counter()
+            rec = records[0]
+            if rec.exit_code >= 2:
+                raise RuntimeError(f"batch on {project} failed: {rec.message}")
+            rooms = rec.counts["rooms"]
+            rows.append({"workers": workers, "threads_per_worker": max(1, available_cores() // workers), "rooms": rooms,
+                         "startup_s": t1 - t0, "wall_s": t2 - t1, "rooms_per_s": rooms / (t2 - t1)})
+            summaries.append(untimed(summary_csv(records)))
+    if any(s != summaries[0] for s in summaries):
+        raise RuntimeError("the summaries of 1 and 2 workers differ")
+    for r in rows:
+        r["speed_up"] = r["rooms_per_s"] / rows[0]["rooms_per_s"]
+    return rows
+
+
 #: Short column headings of the printed tables (the JSON keeps the long names).
 LABELS = {"raw_embreex_1_thread_mrays_s": "raw 1 thread", "raw_embreex_mrays_s": "raw", "engine_first_hit_mrays_s": "engine",
           "engine_occluded_mrays_s": "engine occluded", "engine_share_of_raw": "engine / raw", "peak_mb": "peak MB",
           "context_triangles": "triangles", "grid_spacing_m": "grid m", "angular_resolution_deg": "resolution deg",
-          "per_room_s": "wall / room", "checks_per_room_s": "view+sun / room"}
+          "per_room_s": "wall / room", "checks_per_room_s": "view+sun / room", "threads_per_worker": "threads / worker",
+          "startup_s": "cluster start s", "rooms_per_s": "rooms / s", "speed_up": "speed-up"}
 
 
 def _table(title: str, rows: list, columns: list) -> None:
@@ -287,7 +340,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building", "dask")
 
 
 def main(argv=None) -> int:
@@ -343,6 +396,10 @@ def main(argv=None) -> int:
         result["building"] = whole_building(args.quick)
         _table("Whole building: the generated IFC apartment block, defaults [s, MB]", result["building"],
                ["rooms", "wall_s", "load", "view", "sunlight", "per_room_s", "checks_per_room_s", "peak_mb", "rays"])
+    if "dask" in args.only:
+        result["dask"] = dask_scaling(args.quick)
+        _table("Dask: batch --scheduler local on the generated IFC block, defaults [rooms/s]", result["dask"],
+               ["workers", "threads_per_worker", "rooms", "startup_s", "wall_s", "rooms_per_s", "speed_up"])
     Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(f"wrote {args.out}")
     return 0

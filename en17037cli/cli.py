@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import sys
-import traceback
 from pathlib import Path
 
 import click
@@ -47,7 +46,7 @@ def _fail(message: str, code: int):
 
 def guard(fn):
     """Run ``fn``; turn InputError into exit 2 and anything unexpected into exit 3."""
-    from en17037cli.errors import InputError
+    from en17037cli.errors import InputError, internal_message
 
     try:
         return fn()
@@ -56,8 +55,7 @@ def guard(fn):
     except (SystemExit, KeyboardInterrupt, click.exceptions.Exit):
         raise
     except Exception as exc:  # noqa: BLE001 - the one place internal errors are reported
-        tb = traceback.format_exc(limit=-3).strip().splitlines()
-        _fail(f"internal error ({type(exc).__name__}: {exc}); please report it with this project. {tb[-1] if tb else ''}", EXIT_INTERNAL)
+        _fail(internal_message(exc), EXIT_INTERNAL)
 
 
 class KindValue(click.ParamType):
@@ -120,6 +118,23 @@ def cli():
     """Check EN 17037 View out (5.2) and Exposure to sunlight (5.3) on a 3D model."""
 
 
+def junit_option(fn):
+    return click.option("--junit", type=click.Path(dir_okay=False, path_type=Path), default=None, metavar="FILE",
+                        help="Also write JUnit XML: one test case per room and criterion (failure for FAIL, error for "
+                             "not assessable / not assessed).")(fn)
+
+
+def _annotate(records) -> None:
+    """GitHub Actions annotations (``::error ...``) on stdout, when running in GitHub Actions."""
+    import os
+
+    if os.environ.get("GITHUB_ACTIONS") == "true":
+        from en17037cli.report.junit import github_annotations
+
+        for line in github_annotations(records):
+            click.echo(line)
+
+
 @cli.command()
 @project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
@@ -128,21 +143,32 @@ def cli():
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option
+@click.option("--baseline", type=click.Path(path_type=Path), default=None, metavar="REPORT",
+              help="A report.json (or report folder) of an earlier design: fail (exit 1) only where a level or a status "
+                   "got worse, or a new room or criterion fails.")
+@junit_option
 @click.option("--no-plots", is_flag=True, help="No pictures: report.html and report.md without maps, fisheyes or charts.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bars and no summary.")
-def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, quiet):
+def check(project_file: Path, out_dir, only, overrides, max_points, baseline, junit, no_plots, quiet):
     """Run the checks of PROJECT_FILE and write the reports."""
     from en17037cli import pipeline
     from en17037cli.preflight import MAX_POINTS
     from en17037cli.project import load_project
     from en17037cli.report.document import build_report
     from en17037cli.report.figures import pictures_available, render_figures
-    from en17037cli.report.folder import check_folder, default_folder
+    from en17037cli.report.folder import check_file, check_folder, default_folder
     from en17037cli.report.write import WRITERS, write_reports
 
     out = out_dir or default_folder(project_file)
 
     def run():
+        before = None
+        if baseline is not None:
+            from en17037cli.compare import load_report
+
+            before = load_report(baseline, "--baseline")
+        if junit is not None:
+            check_file(junit, "--junit")
         project = load_project(project_file, list(overrides))
         check_folder(out, project.path, WRITERS)  # before any work: a folder we may not write stops here
         plots = not no_plots and pictures_available()
@@ -163,12 +189,28 @@ def check(project_file: Path, out_dir, only, overrides, max_points, no_plots, qu
                                    "report.html and report.md are written without them")
         report = build_report(result)
         write_reports(report, out, project.path, figures)
-        return report
+        comparison = None
+        if before is not None:
+            from en17037cli.compare import compare_reports
+
+            comparison = compare_reports(before, report, str(baseline), str(out / "report.json"))
+        record = _check_record(project_file, out, report, result, comparison)
+        if junit is not None:
+            from en17037cli.report.folder import write_file
+            from en17037cli.report.junit import junit_xml
+
+            write_file(junit, junit_xml([record]).encode("utf-8"), "--junit")
+        return report, comparison, record
 
     _exit_on_sigterm()
-    report = guard(run)
+    report, comparison, record = guard(run)
+    _annotate([record])
     if not quiet:
         _summary(report, out)
+        if comparison is not None:
+            _comparison_table(comparison, err=True)
+    if comparison is not None:
+        sys.exit(comparison.exit_code)
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
 
 
@@ -182,6 +224,21 @@ def _painters():
         return Painters()
     except (OSError, ValueError, ImportError):
         return None
+
+
+def _check_record(project_file: Path, out: Path, report: dict, result, comparison):
+    """The run of ``check`` as a :class:`~en17037cli.report.summary.RunRecord` (for JUnit and annotations)."""
+    from en17037cli.compare import regressed_pairs
+    from en17037cli.report.summary import RunRecord, room_rows
+
+    times = {r.room.name: r.time_s for r in result.rooms}
+    code = EXIT_PASS if report["status"] == "pass" else EXIT_FAIL
+    if comparison is not None:
+        code = comparison.exit_code
+    return RunRecord(project=str(project_file), report_dir=str(out), exit_code=code, rows=room_rows(report, times),
+                     status=report["status"], counts=report["summary"], warnings=list(report["warnings"]),
+                     time_s=report["timings_s"]["total"],
+                     regressions=None if comparison is None else regressed_pairs(comparison))
 
 
 def _exit_on_sigterm():
@@ -386,6 +443,137 @@ def sensitivity(project_file: Path, out_dir: Path, overrides):
     c = res["cost"]
     console.print(f"cost: {c['total_s']:.1f} s, {c['ratio']:.1f} x the check with the project's own settings ({c['base_s']:.1f} s); "
                   f"wrote {out_dir / 'sensitivity.csv'}, sensitivity.json, sensitivity.html")
+
+
+@cli.command()
+@click.argument("projects", nargs=-1, required=True, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--variants", type=click.Path(dir_okay=False, path_type=Path), default=None, metavar="FILE",
+              help="YAML list of named override sets ({name: wide, set: {key.path: value}}): each project runs once per variant.")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=Path("en17037-batch"),
+              show_default=True, help="Folder of the summary (summary.csv, summary.json) and of each run's report folder.")
+@click.option("--jobs", "-j", type=click.IntRange(1), default=None,
+              help="Worker processes (with --scheduler local: workers) [default: the cores]; each ray engine gets cores // jobs threads.")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="Run on a Dask cluster: its scheduler's address (tcp://host:8786), or 'local' for a LocalCluster "
+                   "(needs the dask extra).")
+@click.option("--only", type=click.Choice(["view", "sunlight"]), default=None,
+              help="Run one check only (a required check left out is NOT ASSESSED and fails).")
+@set_option
+@max_points_option
+@click.option("--rooms-per-task", type=click.IntRange(1), default=None, metavar="N",
+              help="A project of more rooms is spread over the workers in groups of N rooms [default: 8].")
+@junit_option
+@click.option("--quiet", "-q", is_flag=True, help="No progress lines and no table.")
+def batch(projects, variants, out_dir: Path, jobs, scheduler, only, overrides, max_points, rooms_per_task, junit, quiet):
+    """Check many PROJECTS (or each project once per variant) and write one summary.
+
+    Each run writes its own report folder under --out; summary.csv and summary.json hold one row
+    per room and criterion of every run. A run that fails (bad input, internal error) is recorded
+    with its message and the others go on; the exit code is the worst of the runs.
+    """
+    from en17037cli import batch as b
+    from en17037cli.preflight import MAX_POINTS
+    from en17037cli.report.folder import check_file
+
+    def prepare():
+        chosen = b.load_variants(variants) if variants is not None else None
+        specs = b.plan_runs([str(p) for p in projects], chosen, tuple(overrides), only, max_points or MAX_POINTS,
+                            rooms_per_task or b.ROOMS_PER_TASK)
+        b.check_batch_folder(out_dir)
+        if junit is not None:
+            check_file(junit, "--junit")
+        return specs
+
+    _exit_on_sigterm()
+    specs = guard(prepare)
+    n = len(specs)
+    finished = []
+
+    def progress(rec):
+        finished.append(rec)
+        if not quiet:
+            what = {0: "PASS", 1: "FAIL", 2: "BAD INPUT", 3: "INTERNAL ERROR"}[rec.exit_code]
+            click.echo(f"[{len(finished)}/{n}] {rec.label}: {what}", err=True)
+
+    records = guard(lambda: b.run(specs, out_dir, jobs, scheduler, junit, on_done=progress))
+    _annotate(records)
+    if not quiet:
+        _batch_table(records, out_dir)
+    from en17037cli.report.summary import worst_exit_code
+
+    sys.exit(worst_exit_code(records))
+
+
+def _batch_table(records, out: Path) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    from en17037cli.report.labels import STATUS_LABEL
+
+    table = Table(title="EN 17037 batch")
+    for col in ("run", "room", "check", "reached", "required", "result", "hours / share"):
+        table.add_column(col)
+    for rec in records:
+        for row in rec.rows:
+            result = STATUS_LABEL[row["status"]]
+            if row["verdict"] != row["status"]:
+                result += " (dwelling passes)" if row["dwelling_status"] == "pass" else " (not asked)"
+            figure = (f"{row['hours']} h" if row["hours"] is not None else
+                      f"{row['share']:.0%}" if row["share"] is not None else "")
+            table.add_row(escape(rec.label), escape(row["room"]), row["criterion"], row["level"] or "-", row["required"], result,
+                          figure)
+    console = _stderr_console()
+    if table.row_count:
+        console.print(table)
+    for rec in records:  # whole lines, never wrapped: scripts and people grep them
+        if rec.exit_code >= 2:
+            for line in rec.message.splitlines():
+                click.echo(f"error: {rec.label}: {line}", err=True)
+    counts = {code: sum(r.exit_code == code for r in records) for code in range(4)}
+    click.echo(f"{len(records)} runs: {counts[0]} pass, {counts[1]} fail, {counts[2]} bad input, {counts[3]} internal error; "
+               f"summary in {out}/ (summary.csv, summary.json)", err=True)
+
+
+@cli.command()
+@click.argument("before", type=click.Path(path_type=Path))
+@click.argument("after", type=click.Path(path_type=Path))
+@click.option("--format", "fmt", type=click.Choice(["text", "md", "json"]), default="text", show_default=True,
+              help="md: a Markdown table for a pull-request comment; json: for scripts.")
+@click.option("--all", "everything", is_flag=True, help="List the unchanged rooms and criteria too.")
+def compare(before: Path, after: Path, fmt, everything):
+    """What changed from BEFORE to AFTER (report.json files or report folders), room by room.
+
+    Exit 1 when a level or a status got worse (or a new room or criterion fails), 0 otherwise.
+    """
+    from en17037cli.compare import compare_reports, comparison_json, comparison_markdown, load_report
+
+    c = guard(lambda: compare_reports(load_report(before, "BEFORE"), load_report(after, "AFTER"), str(before), str(after)))
+    if fmt == "md":
+        click.echo(comparison_markdown(c, everything), nl=False)
+    elif fmt == "json":
+        click.echo(comparison_json(c), nl=False)
+    else:
+        _comparison_table(c, everything=everything)
+    sys.exit(c.exit_code)
+
+
+def _comparison_table(c, err: bool = False, everything: bool = False) -> None:
+    from rich.console import Console
+    from rich.markup import escape
+    from rich.table import Table
+
+    from en17037cli.compare import headline, table_rows
+
+    console = Console(stderr=err)
+    rows = table_rows(c, everything)
+    if rows:
+        table = Table(title=escape(f"{c.before} → {c.after}"))
+        for col in ("change", "room", "criterion", "level", "status", "figures"):
+            table.add_column(col)
+        for r in rows:
+            table.add_row(*(escape(x) for x in r), style="red" if r[0].startswith(("worse", "added (regression)")) else None)
+        console.print(table)
+    click.echo(headline(c), err=err)  # one whole line, never wrapped
 
 
 @cli.command()

@@ -16,6 +16,9 @@ from en17037cli.errors import InputError
 from en17037cli.project.settings import DwellingsSpec
 from en17037cli.scene.model import Room
 
+#: Where the one dwelling of a project without ``dwellings:`` comes from (report.json ``grouped_by``).
+WHOLE_PROJECT = "the whole project (no dwellings: key)"
+
 
 @dataclass(frozen=True)
 class Dwelling:
@@ -53,7 +56,7 @@ def group_dwellings(spec: DwellingsSpec | None, rooms: list[Room], where: str) -
     """
     names = [r.name for r in rooms]
     if spec is None:
-        return [Dwelling("project", tuple(names), tuple(names), "the whole project (no dwellings: key)")]
+        return [Dwelling("project", tuple(names), tuple(names), WHOLE_PROJECT)]
     groups: dict[str, tuple[list[str], object, str]] = {}
     if spec.listed:
         for i, d in enumerate(spec.listed):

@@ -13,3 +13,12 @@ class NotAssessable(Exception):
     utilised area is empty, point P lies above the window head... The run goes on with the other
     rooms; the room is reported ``not_assessable`` with this one-line reason, which fails its
     requirement."""
+
+
+def internal_message(exc: BaseException) -> str:
+    """How an unexpected exception is reported (exit code 3): its type, its message and the last
+    line of its traceback, and a request to report it."""
+    import traceback
+
+    tb = "".join(traceback.format_exception(exc, limit=-3)).strip().splitlines()
+    return f"internal error ({type(exc).__name__}: {exc}); please report it with this project. {tb[-1] if tb else ''}"

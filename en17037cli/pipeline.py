@@ -1,7 +1,8 @@
 """Running a project: project settings -> scene -> criteria -> a typed result the reports format.
 
 Criteria run only when the project asks for them (and ``only`` allows); the ray engine's
-acceleration structures are built once per run and shared by every criterion and room.
+acceleration structures are built once per run (a :class:`Session`) and shared by every criterion
+and room.
 """
 from __future__ import annotations
 
@@ -43,6 +44,8 @@ class RoomResult:
 
     room: Room
     results: dict[str, object]
+    #: wall time of each criterion on the room [s] (for the batch summary and JUnit, not report.json)
+    time_s: dict[str, float] = field(default_factory=dict)
     illustrations: dict[str, object] = field(default_factory=dict)  # criterion -> picture data, when asked
 
     def assessed(self, criterion: str):
@@ -168,45 +171,143 @@ def _plan(c: Criterion, ctx: Context, room: Room):
         return Unassessed("not_assessable", str(exc))
 
 
+@dataclass
+class RoomAssessment:
+    """What assessing one room produced: each chosen criterion's result, its wall time [s] and the
+    rays it traced. Plain data, so that a batch worker can send it to another process."""
+
+    results: dict[str, object] = field(default_factory=dict)
+    time_s: dict[str, float] = field(default_factory=dict)
+    rays: int = 0
+
+
+class Session:
+    """A project opened for assessment: its scene, its ray engine with the acceleration structures
+    built, and the preflight, ready to assess any of its rooms.
+
+    :func:`run` opens one and assesses every room. A batch worker (:mod:`en17037cli.batch`) opens
+    one per project and reuses it for each group of rooms it is given; the assessments of every
+    room, from however many sessions of the same project, give the same :class:`RunResult` as
+    :func:`run` (a room's result depends on nothing but the project and the room).
+
+    Parameters
+    ----------
+    only : a criterion name (``view``, ``sunlight``), or None for every criterion the project asks for
+    max_points : the viewpoint budget (see :func:`~en17037cli.preflight.check_budget`)
+    threads : ray-tracing threads (see :class:`~en17037cli.raytrace.RayEngine`)
+
+    Raises :class:`~en17037cli.errors.InputError` for bad input, before any criterion. Use as a
+    context manager, or call :meth:`close`, to stop the engine's threads.
+    """
+
+    def __init__(self, project: Project, only: str | None = None, max_points: int = MAX_POINTS,
+                 threads: int | None = None):
+        self.project, self.only = project, only
+        self.timer = Timer()
+        self.scene = build_scene(project)
+        self.timer.stage("load")
+        self.chosen = [c for name, c in CRITERIA.items() if c.settings(project) is not None and only in (None, name)]
+        self.engine = RayEngine(self.scene.vertices, self.scene.triangles, self.scene.ray_groups(), threads=threads)
+        try:
+            self.context = Context(project, self.scene, self.engine)
+            self.checks = preflight(self.context, max_points)  # input errors stop the run here, before any criterion
+            groups = [g for c in self.chosen for g in c.ray_groups(self.scene)]
+            self.engine.prepare(list(dict.fromkeys(groups)))  # built once, shared by every criterion and room
+        except BaseException:
+            self.engine.close()
+            raise
+        self.preflight_rays = self.engine.rays_traced
+        self.timer.stage("build")
+        self._rooms = {room.name: room for room in self.scene.rooms}
+
+    def __enter__(self) -> Session:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self.engine.close()
+
+    @property
+    def room_names(self) -> list[str]:
+        """The project's rooms, in report order."""
+        return [room.name for room in self.scene.rooms]
+
+    def assess(self, rooms: list[str] | None = None, progress: Progress | None = None) -> dict[str, RoomAssessment]:
+        """Assess ``rooms`` (names; default every room, in report order) with each chosen criterion.
+
+        The filter is how a batch spreads one project over several workers: each assesses a part
+        of its rooms and :meth:`result` joins them.
+        """
+        names = self.room_names if rooms is None else list(rooms)
+        unknown = [n for n in names if n not in self._rooms]
+        if unknown:
+            raise KeyError(f"no room named {unknown[0]!r} in {self.project.path.name}")
+        out = {n: RoomAssessment() for n in names}
+        ctx, engine = self.context, self.engine
+        for c in self.chosen:
+            plans = {}
+            for n in names:
+                rays = engine.rays_traced
+                plans[n] = _plan(c, ctx, self._rooms[n])
+                out[n].rays += engine.rays_traced - rays
+            size = sum(c.size(p) for p in plans.values() if p is not None and not isinstance(p, Unassessed))
+            advance = progress(size, c.name) if progress else None
+            for n in names:
+                t, rays = time.perf_counter(), engine.rays_traced
+                out[n].results[c.name] = _assess(c, ctx, self._rooms[n], plans[n], advance)
+                out[n].time_s[c.name] = time.perf_counter() - t
+                out[n].rays += engine.rays_traced - rays
+            self.timer.stage(c.name)
+        return out
+
+    def illustrate(self, result: RunResult) -> None:
+        """What the report's pictures need of each assessed room (:meth:`Criterion.illustrate`), into
+        ``RoomResult.illustrations``; traced now, while the engine is open, and not counted in
+        ``rays_traced`` (the pictures are not part of the check)."""
+        for r in result.rooms:
+            for c in self.chosen:
+                res = r.assessed(c.name)
+                if res is not None:
+                    r.illustrations[c.name] = c.illustrate(self.context, r.room, res)
+        self.timer.stage("pictures")
+
+    def result(self, assessed: dict[str, RoomAssessment], timer: Timer | None = None) -> RunResult:
+        """The run's result from the assessments of every room of the project (from this session or
+        others of the same project), the dwellings judged and the verdict; ``timer`` defaults to
+        this session's."""
+        unrun = _unrun(self.project, self.only)
+        chosen = [c.name for c in self.chosen]
+        rooms = []
+        for room in self.scene.rooms:
+            a = assessed[room.name]
+            results = {name: a.results.get(name) if name in chosen else unrun.get(name, {}).get(room.name) for name in CRITERIA}
+            rooms.append(RoomResult(room, results, dict(a.time_s)))
+        by_name = {r.room.name: r for r in rooms}
+        project = self.project
+        dwellings = [assess_dwelling(d, by_name, project.requirements.sunlight_rooms, project.thresholds)
+                     for d in self.checks.dwellings]
+        rays = self.preflight_rays + sum(a.rays for a in assessed.values())
+        return RunResult(project=project, scene=self.scene, rooms=rooms, status=overall_status(rooms, dwellings),
+                         dwellings=dwellings, checks_run=chosen, rays_traced=rays, context=self.context,
+                         warnings=self.checks.warnings, timer=timer or self.timer)
+
+
 def run(project: Project, only: str | None = None, progress: Progress | None = None,
-        max_points: int = MAX_POINTS, pictures: bool = False) -> RunResult:
-    """Run the checks of ``project``.
+        max_points: int = MAX_POINTS, threads: int | None = None, pictures: bool = False) -> RunResult:
+    """Run the checks of ``project``: open a :class:`Session` and assess every room.
 
     Parameters
     ----------
     only : a criterion name (``view``, ``sunlight``), or None for every criterion the project asks for
     progress : optional progress-bar factory (see :data:`Progress`)
     max_points : the viewpoint budget (see :func:`~en17037cli.preflight.check_budget`)
+    threads : ray-tracing threads [default: ``EN17037_THREADS``, else every core]
     pictures : also trace what the report's pictures need (:meth:`Criterion.illustrate`), stage ``pictures``
     """
-    timer = Timer()
-    scene = build_scene(project)
-    timer.stage("load")
-    chosen = [c for name, c in CRITERIA.items() if c.settings(project) is not None and only in (None, name)]
-    results = _unrun(project, only)
-    with RayEngine(scene.vertices, scene.triangles, scene.ray_groups()) as engine:
-        ctx = Context(project, scene, engine)
-        checks = preflight(ctx, max_points)  # input errors stop the run here, before any criterion
-        groups = [g for c in chosen for g in c.ray_groups(scene)]
-        engine.prepare(list(dict.fromkeys(groups)))  # built once, shared by every criterion and room
-        timer.stage("build")
-        for c in chosen:
-            plans = {room.name: _plan(c, ctx, room) for room in scene.rooms}
-            size = sum(c.size(p) for p in plans.values() if p is not None and not isinstance(p, Unassessed))
-            advance = progress(size, c.name) if progress else None
-            results[c.name] = {room.name: _assess(c, ctx, room, plans[room.name], advance) for room in scene.rooms}
-            timer.stage(c.name)
-        rooms = [RoomResult(room, {name: results.get(name, {}).get(room.name) for name in CRITERIA}) for room in scene.rooms]
-        rays = engine.rays_traced  # the criteria's rays; the pictures' are not part of the check
+    with Session(project, only, max_points, threads) as session:
+        result = session.result(session.assess(progress=progress))
         if pictures:
-            for r in rooms:
-                for c in chosen:
-                    res = r.assessed(c.name)
-                    if res is not None:
-                        r.illustrations[c.name] = c.illustrate(ctx, r.room, res)
-            timer.stage("pictures")
-    by_name = {r.room.name: r for r in rooms}
-    dwellings = [assess_dwelling(d, by_name, project.requirements.sunlight_rooms, project.thresholds) for d in checks.dwellings]
-    return RunResult(project=project, scene=scene, rooms=rooms, status=overall_status(rooms, dwellings), dwellings=dwellings,
-                     checks_run=[c.name for c in chosen], rays_traced=rays, context=ctx,
-                     warnings=checks.warnings, timer=timer)
+            session.illustrate(result)
+        return result

@@ -20,6 +20,10 @@ import numpy as np
 
 from en17037cli.geometry import check_shape
 
+#: Environment variable that sets the default thread count of every engine (a batch worker's share
+#: of the cores, or a CI runner's): a positive whole number.
+THREADS_ENV = "EN17037_THREADS"
+
 #: Rays per embreex call; large enough to amortise the call, small enough to share two cores.
 CHUNK = 1 << 15
 
@@ -27,6 +31,26 @@ CHUNK = 1 << 15
 MIN_RESTART_OFFSET_M = 1e-4
 #: ... and, far from the local origin, this many float32 units of the point's largest coordinate.
 RESTART_OFFSET_ULPS = 16
+
+
+def available_cores() -> int:
+    """Cores this process may run on (its CPU affinity where the system tells, else every core)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def default_threads() -> int:
+    """Threads of an engine given none: :data:`THREADS_ENV` where set, else :func:`available_cores`."""
+    raw = os.environ.get(THREADS_ENV, "").strip()
+    if not raw:
+        return available_cores()
+    if not raw.isdigit() or int(raw) < 1:
+        from en17037cli.errors import InputError
+
+        raise InputError(f"{THREADS_ENV}={raw}: not a positive whole number; unset it or give the ray-tracing threads, e.g. 2")
+    return int(raw)
 
 
 class RayEngine:
@@ -38,7 +62,8 @@ class RayEngine:
     triangles : (m, 3) int
     groups : mapping name -> (m,) bool mask or face ids (or a callable returning either)
     threads : int, optional
-        Worker threads (embreex's loop runs without the GIL); default: the machine's cores.
+        Worker threads (embreex's loop runs without the GIL); default: :func:`default_threads`
+        (``EN17037_THREADS``, else the cores available). Results do not depend on it.
 
     Use as a context manager, or call :meth:`close`, to stop the worker threads.
     """
@@ -46,7 +71,7 @@ class RayEngine:
     def __init__(self, vertices: np.ndarray, triangles: np.ndarray, groups: dict | None = None, threads: int | None = None):
         self.vertices = vertices
         self.triangles = triangles
-        self.threads = max(1, threads or os.cpu_count() or 1)
+        self.threads = max(1, threads or default_threads())
         self._spec: dict = {}
         self._faces: dict[str, np.ndarray] = {}
         self._groups: dict = {}

@@ -10,6 +10,7 @@ the period; per window with a point P, the fisheye with the sun's paths. File na
 from __future__ import annotations
 
 import re
+import signal
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,6 +148,9 @@ def render_figures(result: RunResult, pool=None) -> list[Figure]:
     return out
 
 
+_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
 class Painters:
     """A worker process, forked before the run, that imports matplotlib and loads its font while the
     run traces rays in the parent, then draws the pictures it is sent. The figures come back in the
@@ -155,11 +159,19 @@ class Painters:
 
     def __init__(self):
         import multiprocessing
+        import os
 
         ctx = multiprocessing.get_context("fork")
+        self._pid = os.getpid()
         self._conn, child = ctx.Pipe()
         self._proc = ctx.Process(target=_paint, args=(child,), name="en17037-pictures", daemon=True)
-        self._proc.start()
+        # The child is forked with SIGINT and SIGTERM blocked and unblocks them once its own handlers
+        # are set: a signal arriving in between must not run the parent's handler in the child.
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS)
+        try:
+            self._proc.start()
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
         child.close()
 
     def draw(self, jobs: list[Job]) -> list[Figure]:
@@ -171,7 +183,10 @@ class Painters:
 
     def close(self) -> None:
         import contextlib
+        import os
 
+        if os.getpid() != self._pid:  # a forked copy of the process that started the worker
+            return
         with contextlib.suppress(OSError):
             self._conn.close()
         if self._proc.is_alive():
@@ -181,12 +196,11 @@ class Painters:
 
 def _paint(conn) -> None:
     """The worker of :class:`Painters`: warm up, draw one batch of jobs, send the figures back."""
-    import signal
-
     from en17037cli.report.pictures.canvas import warm_up
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends this process
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _SIGNALS)  # blocked by Painters() around the fork
     warm_up()
     try:
         jobs = conn.recv()

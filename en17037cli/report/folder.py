@@ -134,3 +134,39 @@ def commit(folder: Path, project_file: Path, contents: dict[str, bytes]) -> list
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return [folder / n for n in contents]
+
+
+def check_file(path: Path, flag: str) -> None:
+    """Raise :class:`InputError` unless a single output file (``--junit FILE``) can be written at ``path``."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{flag} {path}: is a folder; give a file name, e.g. {path / 'junit.xml'}")
+    probe = path.parent
+    while not probe.exists() and probe.parent != probe:
+        probe = probe.parent
+    if not probe.is_dir():
+        raise InputError(f"{flag} {path}: {probe} is a file, not a folder; choose another file name")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise InputError(f"{flag} {path}: {probe} is not writable; choose another file name")
+
+
+def write_file(path: Path, data: bytes, flag: str) -> None:
+    """Write one output file whole: into a temporary file beside it, then moved over it at once."""
+    path = Path(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=TMP_PREFIX, dir=path.parent)
+    except OSError as exc:
+        raise InputError(f"{flag} {path}: cannot write there ({_problem(exc)}); choose another file name") from None
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)  # mkstemp's 0600 would make the file private
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise InputError(f"{flag} {path}: cannot write it ({_problem(exc)}); choose another file name") from None
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)

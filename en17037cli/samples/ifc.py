@@ -41,9 +41,11 @@ class Builder:
 
     def __post_init__(self):
         import ifcopenshell.api
+        import ifcopenshell.api.owner.settings
 
         self.api = ifcopenshell.api
         self.f = ifcopenshell.api.run("project.create_file", version=self.schema)
+        ifcopenshell.api.owner.settings.factory_reset()  # the user and application of this file only (none in IFC4)
         if self.schema == "IFC2X3":  # IFC2X3 needs an owner history on every rooted entity
             self._owner()
         self.project = self.entity("IfcProject", "Sample project")
