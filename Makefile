@@ -30,12 +30,10 @@ test: lint
 	$(PY) -m pytest
 
 # Mutation testing of the numeric core (docs/mutation.md); not part of `make test` or CI. About
-# 40 min on 2 cores. pvlib (the independent SPA of tests/test_mutants_spa.py) is installed without
-# its dependencies: its pandas and scipy would change what tests/test_robustness.py measures.
+# an hour on 2 cores. pvlib (the independent SPA of tests/test_mutants_spa.py) comes with the test extra.
 MUTATION_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 mutation: $(STAMP)
 	$(PY) -m pip install --quiet 'mutmut>=3.2,<4'
-	$(PY) -m pip install --quiet --no-deps 'pvlib>=0.11'
 	rm -rf mutants
 	@start=$$(date +%s); \
 	  $(VENV)/bin/mutmut run --max-children $(MUTATION_JOBS) > mutation-run.log 2>&1; code=$$?; \
