@@ -1,10 +1,19 @@
 """Horizontal sight angle (EN 17037 clause 5.2): the angle of the horizontal fan at eye height that
-leaves the room through its windows.
+leaves the room through its windows (the total over all its intervals).
 
-A fan over the azimuths in which the windows lie (:func:`fan_intervals`),
-``horizontal_resolution_deg`` apart; every change between "leaves through a window" and "blocked"
-is located by bisection to ``angle_tolerance_deg``. Error estimate: the remaining bracket widths
-plus the end insets, summed (a bound).
+``view.sight_angle_method``:
+
+- ``plan`` (default, :func:`horizontal`): the intervals come from plan geometry
+  (:mod:`en17037cli.criteria.view.plan`), exact by construction for the windows, their frames,
+  mullions and reveals and everything between the viewpoints and the glazing; a fan of rays over
+  those intervals only confirms what lies further beyond the glazing (a far ``interior`` face is
+  bisected as below) and samples the outside distance. Error: the round-off bound of
+  :func:`~en17037cli.criteria.view.plan.float_bound`, plus the brackets of far transitions.
+- ``fan`` (:func:`horizontal_fan`): a fan over the azimuths in which the windows lie
+  (:func:`fan_intervals`), ``horizontal_resolution_deg`` apart; every change between "leaves
+  through a window" and "blocked" is located by bisection to ``angle_tolerance_deg``. Error
+  estimate: the remaining bracket widths plus the end insets, summed; a gap narrower than the fan
+  can fall between two rays and is not in it.
 """
 from __future__ import annotations
 
@@ -94,7 +103,15 @@ def fan_heights(rg: RoomGeometry, points: np.ndarray) -> np.ndarray:
 
 
 def horizontal(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> SightAngles:
-    """Horizontal sight angle and horizontal outside distance from each point.
+    """Horizontal sight angle and horizontal outside distance from each point, by
+    ``settings.sight_angle_method`` (:func:`horizontal_plan` or :func:`horizontal_fan`)."""
+    if settings.sight_angle_method == "fan":
+        return horizontal_fan(view_rays, rg, points, settings)
+    return horizontal_plan(view_rays, rg, points, settings)
+
+
+def horizontal_fan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> SightAngles:
+    """Horizontal sight angle and horizontal outside distance from each point, by a fan of rays.
 
     Rays are traced only towards the windows: over each merged azimuth interval of
     :func:`fan_intervals`, at most ``horizontal_resolution_deg`` apart, the two end rays moved
@@ -163,5 +180,126 @@ def horizontal(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settin
         # full bracket widths plus the end insets: a bound even where float32 rays blur the bracket ends
         angle_err_deg=np.degrees(np.bincount(tp, hi - lo, p) + np.bincount(ipt, 2 * inset, p)),
         transitions=np.bincount(tp, minlength=p),
+        rays=np.bincount(pidx, minlength=p) + n_iter * np.bincount(tp, minlength=p),
+        distance_m=dist, distance_gap_m=gap)
+
+
+def fan_samples(ipt: np.ndarray, start: np.ndarray, width: np.ndarray, res: float, tol: float):
+    """Samples over intervals, at most ``res`` [rad] apart, the two end samples moved
+    min(tol / 2, width / 4) [rad] inwards (off the edges that bound them).
+
+    Returns
+    -------
+    ang : (s,) float [rad]; iv : (s,) int, the interval of each sample; base, n : (m,) int, the
+    first sample of each interval and its number of steps; inset : (m,) float [rad]
+    """
+    inset = np.minimum(0.5 * tol, 0.25 * width)
+    n = np.maximum(np.ceil(width / res - 1e-9), 1).astype(np.int64)
+    cnt = n + 1
+    base = (np.cumsum(cnt) - cnt).astype(np.int64)
+    iv = np.repeat(np.arange(len(ipt)), cnt)
+    k = np.arange(cnt.sum()) - base[iv]
+    lo_edge, hi_edge = start + inset, start + width - inset
+    ang = lo_edge[iv] + (hi_edge - lo_edge)[iv] * k / n[iv]
+    return ang, iv, base, n, inset
+
+
+def horizontal_plan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> SightAngles:
+    """Horizontal sight angle from plan geometry, confirmed by rays beyond the glazing, and the
+    horizontal outside distance from each point.
+
+    The intervals that leave through a window come from
+    :func:`~en17037cli.criteria.view.plan.visible_intervals` (the windows, and the opaque faces
+    near them and the points, exactly; members inside an opening left out when
+    ``settings.mullions_block`` is False). A fan of rays over those intervals, at most
+    ``horizontal_resolution_deg`` apart (end rays moved half of ``angle_tolerance_deg`` inwards),
+    looks further: a ray whose first opaque face beyond the glazing is an ``interior`` face that
+    did not take part in plan (the building's own walls further away) is blocked, and every such
+    change is bisected to ``angle_tolerance_deg``. A ray that meets a face that took part in plan
+    is left to plan (it grazes an edge plan has placed exactly). The rays that leave give the
+    horizontal outside distance (:func:`~en17037cli.criteria.view.distance.horizontal_distance`).
+    An eye at a window's sill or head height is moved :data:`EDGE_HEIGHT_M` inside the window.
+
+    Parameters
+    ----------
+    points : (p, 3) float [m], local frame
+
+    Returns
+    -------
+    SightAngles, per point; ``angle_err_deg`` is a bound: the round-off of the plan intervals
+    (:func:`~en17037cli.criteria.view.plan.float_bound`) plus the brackets of far transitions and
+    the end insets of intervals whose end ray is blocked beyond the glazing
+    """
+    from en17037cli.criteria.view.plan import visible_intervals
+
+    p = len(points)
+    res = np.radians(settings.horizontal_resolution_deg)
+    tol = np.radians(settings.angle_tolerance_deg)
+    points = fan_heights(rg, points)
+    ipt, lo_i, hi_i, faces, bound = visible_intervals(view_rays.scene, rg, points, settings.frame_depth_m,
+                                                      settings.mullions_block)
+    width = hi_i - lo_i
+    plan_total = np.bincount(ipt, width, p)
+    ang, iv, base, n, inset = fan_samples(ipt, lo_i, width, res, tol)
+    pidx = ipt[iv]
+    near = np.zeros(len(view_rays.scene.triangles), bool)
+    near[faces] = True
+    engine = view_rays.engine
+
+    def trace(pt_idx, angles):
+        d = np.column_stack([np.cos(angles), np.sin(angles), np.zeros(len(angles))])
+        o = points[pt_idx]
+        f_g, t_g = engine.first_hit(rg.group, o, d)
+        f_o, t_o = engine.first_hit("opaque", o, d)
+        through = (f_g >= 0) & (t_g < t_o)
+        cls = view_rays.outside_class(f_o, d)
+        far = (f_o >= 0) & ~near[np.maximum(f_o, 0)]
+        # blocked by a face plan did not see: before the glazing, or the first one beyond it and interior
+        far_blocked = far & (~through | (cls == BLOCKED))
+        leaves = through & (cls != BLOCKED)
+        return ~far_blocked, leaves, f_g, f_o, t_o, t_g, d
+
+    ok, leaves, f_g, f_o, t_o, t_g, dirs = trace(pidx, ang)
+    a = np.flatnonzero(iv[:-1] == iv[1:]) if len(iv) > 1 else np.zeros(0, int)
+    b = a + 1
+    seg = ang[b] - ang[a]
+    trans = np.flatnonzero(ok[a] != ok[b])
+    tp = pidx[a][trans]
+    n_iter = int(np.ceil(np.log2(res / tol))) if tol < res else 0
+    lo, hi = bisect_transitions(lambda key, x: trace(key, x)[0], tp, ang[a][trans], ang[b][trans], ok[a][trans],
+                                iterations=n_iter)
+    x = 0.5 * (lo + hi)
+    s_lo = ok[a][trans]
+    part = np.where(s_lo, x - ang[a][trans], ang[b][trans] - x)  # the part of a transition segment that is not blocked
+    blocked_part = seg[trans] - part
+    # angular length blocked beyond the plan: whole segments, the blocked part of transitions, end insets
+    blocked = np.zeros(len(ang))
+    both = ~ok[a] & ~ok[b]
+    np.add.at(blocked, a, seg * both)
+    np.add.at(blocked, np.where(s_lo, b[trans], a[trans]), blocked_part)
+    ends = np.concatenate([base, base + n]) if len(base) else np.zeros(0, int)
+    end_inset = np.concatenate([inset, inset])
+    blocked[ends] += end_inset * ~ok[ends]
+    angle = plan_total - np.bincount(pidx, blocked, p)
+    # the angular length owned by each sample for the distance statistic (as the fan gives it)
+    weight = np.zeros(len(ang))
+    both_ok = ok[a] & ok[b]
+    np.add.at(weight, a, 0.5 * seg * both_ok)
+    np.add.at(weight, b, 0.5 * seg * both_ok)
+    np.add.at(weight, np.where(s_lo, a[trans], b[trans]), part)
+    weight[ends] += end_inset * ok[ends]
+    dist = gap = None
+    if settings.distance_method == "horizontal":
+        wface = np.where(leaves, f_g, -1)
+        oface = np.where(leaves, f_o, -1)
+        odist = np.where(leaves, t_o, np.inf)
+        gdist = np.where(leaves, t_g, np.inf)
+        dist, gap = horizontal_distance(view_rays, rg, points, pidx, dirs, leaves & ok, (wface, oface, odist, gdist),
+                                        weight, p, settings.distance_statistic)
+    far_err = np.bincount(tp, hi - lo, p) + np.bincount(pidx[ends], end_inset * ~ok[ends], p)
+    return SightAngles(
+        angle_deg=np.degrees(angle),
+        angle_err_deg=np.degrees(bound + far_err),
+        transitions=np.bincount(ipt, minlength=p) * 2 + np.bincount(tp, minlength=p),
         rays=np.bincount(pidx, minlength=p) + n_iter * np.bincount(tp, minlength=p),
         distance_m=dist, distance_gap_m=gap)
