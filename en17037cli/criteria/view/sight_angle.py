@@ -211,14 +211,17 @@ def horizontal_plan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, s
     The intervals that leave through a window come from
     :func:`~en17037cli.criteria.view.plan.visible_intervals` (the windows, and the opaque faces
     near them and the points, exactly; members inside an opening left out when
-    ``settings.mullions_block`` is False). A fan of rays over those intervals, at most
-    ``horizontal_resolution_deg`` apart (end rays moved half of ``angle_tolerance_deg`` inwards),
-    looks further: a ray whose first opaque face beyond the glazing is an ``interior`` face that
-    did not take part in plan (the building's own walls further away) is blocked, and every such
-    change is bisected to ``angle_tolerance_deg``. A ray that meets a face that took part in plan
-    is left to plan (it grazes an edge plan has placed exactly). The rays that leave give the
-    horizontal outside distance (:func:`~en17037cli.criteria.view.distance.horizontal_distance`).
-    An eye at a window's sill or head height is moved :data:`EDGE_HEIGHT_M` inside the window.
+    ``settings.mullions_block`` is False). The rays are the fan's (:func:`horizontal_fan`: over the
+    windows' azimuths, at most ``horizontal_resolution_deg`` apart), so the outside distance is
+    sampled where it was; each ray looks beyond the glazing. A ray in a visible interval whose
+    first opaque face beyond the glazing is an ``interior`` face that did not take part in plan
+    (the building's own walls further away) is blocked there, and every change to or from such a
+    ray is bisected to ``angle_tolerance_deg``. A ray that meets a face that took part in plan is
+    left to plan (it grazes an edge plan has placed exactly, or meets a member left out).
+    Each ray's weight for the distance statistic is the visible measure it owns as in the fan
+    (half of each neighbouring segment between two leaving rays, the visible part of a segment
+    to a blocked one, the end insets), taken from the plan intervals instead of bisection. An eye
+    at a window's sill or head height is moved :data:`EDGE_HEIGHT_M` inside the window.
 
     Parameters
     ----------
@@ -226,9 +229,10 @@ def horizontal_plan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, s
 
     Returns
     -------
-    SightAngles, per point; ``angle_err_deg`` is a bound: the round-off of the plan intervals
-    (:func:`~en17037cli.criteria.view.plan.float_bound`) plus the brackets of far transitions and
-    the end insets of intervals whose end ray is blocked beyond the glazing
+    SightAngles, per point; ``angle_err_deg`` is a bound for all that takes part in plan: the
+    round-off of the plan intervals (:func:`~en17037cli.criteria.view.plan.float_bound`), plus
+    the brackets of far transitions and the end insets whose ray is blocked beyond the glazing
+    (a far face narrower than the fan can still fall between two rays)
     """
     from en17037cli.criteria.view.plan import visible_intervals
 
@@ -236,11 +240,11 @@ def horizontal_plan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, s
     res = np.radians(settings.horizontal_resolution_deg)
     tol = np.radians(settings.angle_tolerance_deg)
     points = fan_heights(rg, points)
-    ipt, lo_i, hi_i, faces, bound = visible_intervals(view_rays.scene, rg, points, settings.frame_depth_m,
-                                                      settings.mullions_block)
-    width = hi_i - lo_i
-    plan_total = np.bincount(ipt, width, p)
-    ang, iv, base, n, inset = fan_samples(ipt, lo_i, width, res, tol)
+    ppt, plo, phi, faces, bound = visible_intervals(view_rays.scene, rg, points, settings.frame_depth_m,
+                                                    settings.mullions_block)
+    measure = cumulative_measure(ppt, plo, phi, p)
+    ipt, start, width = fan_intervals(rg, points)
+    ang, iv, base, n, inset = fan_samples(ipt, start, width, res, tol)
     pidx = ipt[iv]
     near = np.zeros(len(view_rays.scene.triangles), bool)
     near[faces] = True
@@ -254,52 +258,77 @@ def horizontal_plan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, s
         through = (f_g >= 0) & (t_g < t_o)
         cls = view_rays.outside_class(f_o, d)
         far = (f_o >= 0) & ~near[np.maximum(f_o, 0)]
-        # blocked by a face plan did not see: before the glazing, or the first one beyond it and interior
-        far_blocked = far & (~through | (cls == BLOCKED))
-        leaves = through & (cls != BLOCKED)
-        return ~far_blocked, leaves, f_g, f_o, t_o, t_g, d
+        # in a visible interval, blocked by a face plan did not see: before the glazing, or the
+        # first one beyond it and interior
+        far_blocked = measure(pt_idx, angles)[1] & far & (~through | (cls == BLOCKED))
+        return far_blocked, through & (cls != BLOCKED), f_g, f_o, t_o, t_g, d
 
-    ok, leaves, f_g, f_o, t_o, t_g, dirs = trace(pidx, ang)
+    fb, leaves, f_g, f_o, t_o, t_g, dirs = trace(pidx, ang)
+    F, vis = measure(pidx, ang)
+    ok = vis & ~fb  # leaves in plan and beyond it
     a = np.flatnonzero(iv[:-1] == iv[1:]) if len(iv) > 1 else np.zeros(0, int)
     b = a + 1
-    seg = ang[b] - ang[a]
-    trans = np.flatnonzero(ok[a] != ok[b])
+    m = F[b] - F[a]  # visible measure between consecutive rays
+    trans = np.flatnonzero(fb[a] != fb[b])
     tp = pidx[a][trans]
     n_iter = int(np.ceil(np.log2(res / tol))) if tol < res else 0
-    lo, hi = bisect_transitions(lambda key, x: trace(key, x)[0], tp, ang[a][trans], ang[b][trans], ok[a][trans],
+    lo, hi = bisect_transitions(lambda key, x: trace(key, x)[0], tp, ang[a][trans], ang[b][trans], fb[a][trans],
                                 iterations=n_iter)
-    x = 0.5 * (lo + hi)
-    s_lo = ok[a][trans]
-    part = np.where(s_lo, x - ang[a][trans], ang[b][trans] - x)  # the part of a transition segment that is not blocked
-    blocked_part = seg[trans] - part
-    # angular length blocked beyond the plan: whole segments, the blocked part of transitions, end insets
-    blocked = np.zeros(len(ang))
-    both = ~ok[a] & ~ok[b]
-    np.add.at(blocked, a, seg * both)
-    np.add.at(blocked, np.where(s_lo, b[trans], a[trans]), blocked_part)
+    Fx = measure(tp, 0.5 * (lo + hi))[0]
+    # visible measure blocked beyond the plan: between two such rays, on the blocked side of a
+    # bisected transition, and the end insets of blocked end rays
     ends = np.concatenate([base, base + n]) if len(base) else np.zeros(0, int)
-    end_inset = np.concatenate([inset, inset])
-    blocked[ends] += end_inset * ~ok[ends]
-    angle = plan_total - np.bincount(pidx, blocked, p)
-    # the angular length owned by each sample for the distance statistic (as the fan gives it)
+    end_vis = np.abs(np.concatenate([F[base] - measure(ipt, start)[0], measure(ipt, start + width)[0] - F[base + n]]))
+    far_blocked = (np.bincount(pidx[a], m * (fb[a] & fb[b]), p)
+                   + np.bincount(tp, np.where(fb[a][trans], Fx - F[a][trans], F[b][trans] - Fx), p)
+                   + np.bincount(pidx[ends], end_vis * fb[ends], p))
+    angle = np.bincount(ppt, phi - plo, p) - far_blocked
+    # the angular length each ray owns for the distance statistic, as in the fan
     weight = np.zeros(len(ang))
-    both_ok = ok[a] & ok[b]
-    np.add.at(weight, a, 0.5 * seg * both_ok)
-    np.add.at(weight, b, 0.5 * seg * both_ok)
-    np.add.at(weight, np.where(s_lo, a[trans], b[trans]), part)
-    weight[ends] += end_inset * ok[ends]
+    both = ok[a] & ok[b]
+    np.add.at(weight, a, 0.5 * m * both)
+    np.add.at(weight, b, 0.5 * m * both)
+    one = ok[a] != ok[b]
+    np.add.at(weight, np.where(ok[a], a, b)[one], m[one])
+    weight[ends] += end_vis * ok[ends]
     dist = gap = None
     if settings.distance_method == "horizontal":
-        wface = np.where(leaves, f_g, -1)
-        oface = np.where(leaves, f_o, -1)
-        odist = np.where(leaves, t_o, np.inf)
-        gdist = np.where(leaves, t_g, np.inf)
-        dist, gap = horizontal_distance(view_rays, rg, points, pidx, dirs, leaves & ok, (wface, oface, odist, gdist),
-                                        weight, p, settings.distance_statistic)
-    far_err = np.bincount(tp, hi - lo, p) + np.bincount(pidx[ends], end_inset * ~ok[ends], p)
+        keep = leaves & ok
+        traced = (np.where(keep, f_g, -1), np.where(keep, f_o, -1), np.where(keep, t_o, np.inf), np.where(keep, t_g, np.inf))
+        dist, gap = horizontal_distance(view_rays, rg, points, pidx, dirs, keep, traced, weight, p, settings.distance_statistic)
+    far_err = np.bincount(tp, hi - lo, p) + np.bincount(pidx[ends], np.concatenate([inset, inset]) * fb[ends], p)
     return SightAngles(
         angle_deg=np.degrees(angle),
         angle_err_deg=np.degrees(bound + far_err),
-        transitions=np.bincount(ipt, minlength=p) * 2 + np.bincount(tp, minlength=p),
+        transitions=2 * np.bincount(ppt, minlength=p) + np.bincount(tp, minlength=p),
         rays=np.bincount(pidx, minlength=p) + n_iter * np.bincount(tp, minlength=p),
         distance_m=dist, distance_gap_m=gap)
+
+
+def cumulative_measure(pt: np.ndarray, lo: np.ndarray, hi: np.ndarray, p: int):
+    """The measure of a point's pieces [lo, hi] below an angle, as a function.
+
+    Parameters
+    ----------
+    pt : (q,) int; lo, hi : (q,) float [rad], sorted by point then angle, disjoint; p : points
+
+    Returns
+    -------
+    measure(pt (k,) int, angle (k,) float [rad]) -> (F (k,) float [rad], inside (k,) bool): the
+    measure of the point's pieces within [0, angle], and whether the angle lies on a piece
+    """
+    w = hi - lo
+    before = np.r_[0.0, np.cumsum(w)[:-1]] if len(w) else np.zeros(0)
+    first = np.searchsorted(pt, np.arange(p))
+    key = pt * 8.0 + lo  # angles < 8 rad: one sorted key over all points
+
+    def measure(q_pt, ang):
+        if len(pt) == 0:
+            return np.zeros(len(ang)), np.zeros(len(ang), bool)
+        j = np.searchsorted(key, q_pt * 8.0 + ang, side="right") - 1
+        jj = np.maximum(j, 0)
+        mine = (j >= 0) & (pt[jj] == q_pt)
+        F = np.where(mine, before[jj] - before[np.minimum(first[q_pt], len(w) - 1)] + np.clip(ang - lo[jj], 0.0, w[jj]), 0.0)
+        return F, mine & (ang >= lo[jj]) & (ang <= hi[jj])
+
+    return measure
