@@ -241,10 +241,9 @@ def shadow_arcs(rg: RoomGeometry, points: np.ndarray, tri: np.ndarray, layer: np
     pa, pb = a[gi[pi], ki], b[gi[pi], ki]
     z = points[pi, 2]
     for k, f in enumerate(rg.frames):  # a loop over the room's windows, vectorised over points and faces
-        def side(e):
-            return (e[:, 0] - f.origin[0]) * f.n[0] + (e[:, 1] - f.origin[1]) * f.n[1] + (z - f.origin[2]) * f.n[2]
-
-        sa, sb = side(pa), side(pb)
+        # signed distance of each end from the window's plane (outwards positive)
+        sa, sb = ((e[:, 0] - f.origin[0]) * f.n[0] + (e[:, 1] - f.origin[1]) * f.n[1] + (z - f.origin[2]) * f.n[2]
+                  for e in (pa, pb))
         with np.errstate(invalid="ignore", divide="ignore"):
             t = np.clip(sa / (sa - sb), 0.0, 1.0)
         m = pa + t[:, None] * (pb - pa)  # where the segment crosses the line (used only where it does)
