@@ -38,6 +38,10 @@ UNIT_ROUNDOFF = float(np.finfo(np.float64).eps) / 2
 #: A face's projection on a window's plane lies inside its opening when it meets the outline
 #: shrunk by this much [m]: reveals and frames on the outline's edge stay out.
 INSIDE_OPENING_M = 1e-3
+#: At most this many (plane, triangle) cuts at once: viewpoints at many heights go in blocks.
+MAX_CUTS = 2_000_000
+#: Distances from the eye below this count as this in the round-off bound [m] (an eye on a face).
+MIN_EYE_DISTANCE_M = 1e-6
 
 
 def cut_triangles(tri: np.ndarray, z: np.ndarray):
@@ -174,21 +178,52 @@ def window_arcs(rg: RoomGeometry, points: np.ndarray):
     return pt, win, lo, hi, r
 
 
+#: Per scene (by id, checked by a weak reference): the opaque faces and their bounding boxes.
+_FACE_BOXES: dict = {}
+
+
+def face_boxes(scene: Scene):
+    """The opaque faces of ``scene`` and their bounding boxes, computed once per scene.
+
+    Returns
+    -------
+    faces : (f,) int; lo, hi : (3, f) float32 [m], rounded outwards (one contiguous row per axis)
+    """
+    import weakref
+
+    hit = _FACE_BOXES.get(id(scene))
+    if hit is not None and hit[0]() is scene:
+        return hit[1]
+    faces = np.flatnonzero(scene.layer != WINDOW)
+    down = np.nextafter(scene.vertices.astype(np.float32), np.float32(-np.inf)).T.copy()  # (3, n), rounded outwards
+    up = np.nextafter(scene.vertices.astype(np.float32), np.float32(np.inf)).T.copy()
+    t = scene.triangles[faces].T  # (3, f)
+    lo = np.minimum(np.minimum(down[:, t[0]], down[:, t[1]]), down[:, t[2]])
+    hi = np.maximum(np.maximum(up[:, t[0]], up[:, t[1]]), up[:, t[2]])
+    out = (faces, lo, hi)
+    for key in [k for k, v in _FACE_BOXES.items() if v[0]() is None]:  # scenes gone
+        del _FACE_BOXES[key]
+    try:
+        _FACE_BOXES[id(scene)] = (weakref.ref(scene), out)
+    except TypeError:  # not weakly referable: not cached
+        pass
+    return out
+
+
 def near_faces(scene: Scene, rg: RoomGeometry, points: np.ndarray, margin_m: float) -> np.ndarray:
     """Opaque faces that may bound the windows' intervals in plan: those whose bounding box meets
     the box around the room's windows and the points, widened by ``margin_m`` [m] horizontally,
-    and that reach the points' heights. Returns (f,) int face indices."""
+    and the points' heights. Returns (f,) int face indices."""
     xy = np.concatenate([rg.triangles.reshape(-1, 3)[:, :2], points[:, :2]])
-    lo, hi = xy.min(axis=0) - margin_m, xy.max(axis=0) + margin_m
-    zlo, zhi = points[:, 2].min(), points[:, 2].max()
-    v = scene.vertices
-    # per vertex first, then per face: no (m, 3, 3) copy of a large scene
-    in_x = [(v[:, 0] >= lo[0]), (v[:, 0] <= hi[0]), (v[:, 1] >= lo[1]), (v[:, 1] <= hi[1]), v[:, 2] <= zhi, v[:, 2] >= zlo]
-    t = scene.triangles
-    ok = scene.layer != WINDOW
-    for m in in_x:  # some vertex on the inner side of each of the six planes of the box
-        ok &= m[t[:, 0]] | m[t[:, 1]] | m[t[:, 2]]
-    return np.flatnonzero(ok)
+    lo = np.r_[xy.min(axis=0) - margin_m, points[:, 2].min()]
+    hi = np.r_[xy.max(axis=0) + margin_m, points[:, 2].max()]
+    faces, flo, fhi = face_boxes(scene)
+    ok = flo[0] <= hi[0]
+    for axis in range(3):  # six comparisons of contiguous rows
+        if axis:
+            ok &= flo[axis] <= hi[axis]
+        ok &= fhi[axis] >= lo[axis]
+    return faces[ok]
 
 
 def opening_members(scene: Scene, rg: RoomGeometry, faces: np.ndarray, depth_m: float) -> np.ndarray:
@@ -283,8 +318,14 @@ def visible_intervals(scene: Scene, rg: RoomGeometry, points: np.ndarray, depth_
     bound : (p,) float [rad], :func:`float_bound` of each point's total
     """
     p = len(points)
-    wpt, wwin, wlo, whi, wr = window_arcs(rg, points)
     faces = near_faces(scene, rg, points, depth_m)
+    heights = len(np.unique(points[:, 2]))
+    if heights > 1 and heights * max(len(faces), len(rg.triangles)) > MAX_CUTS:  # viewpoints at many heights: blocks
+        step = max(1, MAX_CUTS // max(len(faces), len(rg.triangles), 1))
+        parts = [visible_intervals(scene, rg, points[a:a + step], depth_m, members_block) for a in range(0, p, step)]
+        return (np.concatenate([x[0] + a for x, a in zip(parts, range(0, p, step))]),
+                *(np.concatenate([x[i] for x in parts]) for i in (1, 2)), faces, np.concatenate([x[4] for x in parts]))
+    wpt, wwin, wlo, whi, wr = window_arcs(rg, points)
     cutting = faces if members_block else faces[~opening_members(scene, rg, faces, depth_m)]
     tri = scene.vertices[scene.triangles[cutting]]
     spt, swin, slo, shi, sr = shadow_arcs(rg, points, tri, scene.layer[cutting])
@@ -317,5 +358,6 @@ def float_bound(n: np.ndarray, r: np.ndarray, scale: float) -> np.ndarray:
     n : (p,) int, pieces per point; r : (p,) float [m]; scale : float [m]
     """
     with np.errstate(divide="ignore"):
-        per_end = 6 * UNIT_ROUNDOFF * scale / np.where(np.isfinite(r), r, 1.0) + 8 * UNIT_ROUNDOFF * np.pi
+        per_end = 6 * UNIT_ROUNDOFF * scale / np.where(np.isfinite(r), np.maximum(r, MIN_EYE_DISTANCE_M), 1.0) \
+            + 8 * UNIT_ROUNDOFF * np.pi
     return 2 * n * per_end
