@@ -163,3 +163,31 @@ def test_plan_matches_a_brute_force_fan_of_segments(build, data):
         # step: at most 2 jamb edges and 2 per mullion
         allowed = (2 + 2 * len(mullions)) * step / 2 + 1e-9
         assert abs(r.angle_deg[i] - brute) <= allowed, (pts[i], r.angle_deg[i], brute, allowed)
+
+
+def test_an_interior_fin_beyond_the_frame_depth_is_found_by_the_rays(build, tmp_path):
+    """A fin of the building (interior layer) 1 to 3 m in front of the glazing, beyond
+    view.frame_depth_m: plan does not cut it, the fan's rays find it and bisect its edges."""
+    import tolerances as tol
+
+    b0 = build(BoxRoom(), sub="fin")
+    obj = b0.project.directory / "model.obj"
+    text = obj.read_text()
+    n = sum(1 for line in text.splitlines() if line.startswith("v "))
+    fin = [(0.6, -1.0, 0.0), (0.6, -3.0, 0.0), (0.6, -3.0, 3.0), (0.6, -1.0, 3.0)]
+    obj.write_text(text + "o room\n" + "".join(f"v {x} {y} {z}\n" for x, y, z in fin)
+                   + "f " + " ".join(str(n + i + 1) for i in range(4)) + "\n")
+    from conftest import Built
+
+    b = Built(b0.project.path)
+    pts = [(0.0, 3.0, 1.2), (-0.5, 2.0, 1.7)]
+    r = sight(b, pts)
+    for i, (x0, y0, _) in enumerate(pts):
+        az0, az1 = np.arctan2(-3.0 - y0, 0.6 - x0), np.arctan2(-1.0 - y0, 0.6 - x0)  # the fin's shadow
+        left, right = np.arctan2(-y0, -1.0 - x0), np.arctan2(-y0, 1.0 - x0)  # the window's interval
+        exact = np.degrees(right - left - max(0.0, min(az1, right) - max(az0, left)))
+        assert exact < closed_form_deg(x0, y0, 0.0) - 1.0  # the fin matters
+        # two edges bisected to 1e-4 deg by the rays
+        assert abs(r.angle_deg[i] - exact) <= tol.SIGHT_ANGLE_DEG, (i, r.angle_deg[i], exact)
+        assert abs(r.angle_deg[i] - exact) <= r.angle_err_deg[i] + CLOSED_FORM_ROUNDOFF_DEG
+        assert r.angle_err_deg[i] >= 1e-5  # the error is the rays' brackets here, not round-off

@@ -259,8 +259,8 @@ def horizontal_plan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, s
         cls = view_rays.outside_class(f_o, d)
         far = (f_o >= 0) & ~near[np.maximum(f_o, 0)]
         # in a visible interval, blocked by a face plan did not see: before the glazing, or the
-        # first one beyond it and interior
-        far_blocked = measure(pt_idx, angles)[1] & far & (~through | (cls == BLOCKED))
+        # first one beyond it and interior (a ray that misses the glazing grazes its edge: plan decides)
+        far_blocked = measure(pt_idx, angles)[1] & far & (f_g >= 0) & (~through | (cls == BLOCKED))
         return far_blocked, through & (cls != BLOCKED), f_g, f_o, t_o, t_g, d
 
     fb, leaves, f_g, f_o, t_o, t_g, dirs = trace(pidx, ang)
