@@ -193,3 +193,17 @@ def test_an_interior_fin_beyond_the_frame_depth_is_found_by_the_rays(build, tmp_
         assert abs(r.angle_deg[i] - exact) <= tol.SIGHT_ANGLE_DEG, (i, r.angle_deg[i], exact)
         assert abs(r.angle_deg[i] - exact) <= r.angle_err_deg[i] + CLOSED_FORM_ROUNDOFF_DEG
         assert r.angle_err_deg[i] >= 1e-5  # the error is the rays' brackets here, not round-off
+
+
+def test_plan_counts_its_pieces_and_traces_no_bisection_ray(build):
+    """Two mullions inside the window's interval: three visible pieces, six ends, all from plan;
+    the rays are the fan's samples over the window's interval, ceil(width / res) + 1, and none is
+    a bisection ray (nothing beyond view.frame_depth_m blocks)."""
+    res = 0.2
+    b = build(BoxRoom(depth=8.0, mullions=(-0.35, 0.35)), view={"horizontal_resolution_deg": res})
+    pts = [(0.0, 7.5, 1.2), (0.6, 6.0, 1.7), (-0.8, 7.0, 1.2)]
+    r = sight(b, pts)
+    assert r.transitions.tolist() == [6, 6, 6]
+    width = np.array([closed_form_deg(x, y, 0.0) for x, y, _ in pts])  # the window's interval
+    assert r.rays.tolist() == (np.ceil(width / res - 1e-9) + 1).astype(int).tolist()
+    assert np.all(r.angle_err_deg <= 1e-9)  # round-off only

@@ -64,9 +64,15 @@ def cut_triangles(tri: np.ndarray, z: np.ndarray):
     ends = []
     for i, j in ((0, 1), (1, 2), (2, 0)):  # the three edges of every triangle
         si, sj = s[..., i], s[..., j]
-        cross = (si <= 0) != (sj <= 0)
-        t = si / np.where(cross, si - sj, 1.0)
-        xy = tri[None, :, i, :2] + t[..., None] * (tri[None, :, j, :2] - tri[None, :, i, :2])
+        below = si <= 0
+        cross = below != (sj <= 0)
+        # from the end below the plane to the one above: an edge shared by two triangles is cut
+        # at the same point to the last bit in both, so no crack opens between their shadows
+        s_lo, s_hi = np.where(below, si, sj), np.where(below, sj, si)
+        v_lo = np.where(below[..., None], tri[None, :, i, :2], tri[None, :, j, :2])
+        v_hi = np.where(below[..., None], tri[None, :, j, :2], tri[None, :, i, :2])
+        t = s_lo / np.where(cross, s_lo - s_hi, 1.0)
+        xy = v_lo + t[..., None] * (v_hi - v_lo)
         ends.append((cross, xy))
     flags = np.stack([e[0] for e in ends], axis=-1)  # (g, k, 3)
     xy = np.stack([e[1] for e in ends], axis=-2)  # (g, k, 3, 2)
@@ -81,38 +87,44 @@ def cut_triangles(tri: np.ndarray, z: np.ndarray):
 def arcs(points: np.ndarray, a: np.ndarray, b: np.ndarray):
     """Azimuth interval under which each segment is seen from its point.
 
+    Both ends are the azimuths of the segment's ends themselves (not a start plus a width), so two
+    segments that share an end share that azimuth to the last bit.
+
     Parameters
     ----------
     points : (n, 2) float [m]; a, b : (n, 2) float [m], the segments' ends
 
     Returns
     -------
-    start : (n,) float [rad] in [0, 2 pi); width : (n,) float [rad] in [0, pi]
+    start, end : (n,) float [rad] in [0, 2 pi), counter-clockwise from start to end (end < start:
+        the interval crosses azimuth 0; end == start: seen edge-on)
     r : (n,) float [m], the distance from the point to the nearer end (for :func:`float_bound`)
     """
     e1, e2 = a - points, b - points
     t1, t2 = np.arctan2(e1[:, 1], e1[:, 0]), np.arctan2(e2[:, 1], e2[:, 0])
     delta = (t2 - t1 + np.pi) % TWO_PI - np.pi
-    start = np.where(delta >= 0, t1, t2) % TWO_PI
+    start, end = np.where(delta >= 0, t1, t2) % TWO_PI, np.where(delta >= 0, t2, t1) % TWO_PI
     r = np.minimum(np.hypot(e1[:, 0], e1[:, 1]), np.hypot(e2[:, 0], e2[:, 1]))
-    return np.where(start >= TWO_PI, 0.0, start), np.abs(delta), r
+    return np.where(start >= TWO_PI, 0.0, start), np.where(end >= TWO_PI, 0.0, end), r
 
 
-def split_wrap(pt: np.ndarray, start: np.ndarray, width: np.ndarray, *extra: np.ndarray):
-    """Intervals [start, start + width] as pieces within [0, 2 pi]: one crossing 2 pi becomes two.
+def split_wrap(pt: np.ndarray, start: np.ndarray, end: np.ndarray, *extra: np.ndarray):
+    """Intervals from start to end (counter-clockwise, :func:`arcs`) as pieces within [0, 2 pi]:
+    one crossing azimuth 0 becomes two; empty ones are dropped.
 
     Returns
     -------
     pt, lo, hi and each of ``extra`` (per-interval arrays), repeated for the second pieces
     """
-    keep = width > 0
-    pt, start, width = pt[keep], start[keep], width[keep]
+    keep = end != start
+    pt, start, end = pt[keep], start[keep], end[keep]
     extra = tuple(x[keep] for x in extra)
-    end = start + width
-    wrap = end > TWO_PI
+    wrap = end < start
     lo = np.concatenate([start, np.zeros(int(wrap.sum()))])
-    hi = np.concatenate([np.where(wrap, TWO_PI, end), end[wrap] - TWO_PI])
-    return (np.concatenate([pt, pt[wrap]]), lo, hi) + tuple(np.concatenate([x, x[wrap]]) for x in extra)
+    hi = np.concatenate([np.where(wrap, TWO_PI, end), end[wrap]])
+    keep2 = hi > lo  # a piece [0, 0] of an interval ending at azimuth 0
+    return tuple(x[keep2] for x in (np.concatenate([pt, pt[wrap]]), lo, hi)
+                 + tuple(np.concatenate([x, x[wrap]]) for x in extra))
 
 
 def sweep(pt: np.ndarray, lo: np.ndarray, hi: np.ndarray, kind: np.ndarray):
@@ -173,8 +185,8 @@ def window_arcs(rg: RoomGeometry, points: np.ndarray):
     n = rg.frame_array("n")[tw]
     front = np.einsum("ij,ij->i", rg.frame_array("origin")[tw] - points[pi], n) > MIN_PLANE_DISTANCE_M
     pi, ki, gk, tw = pi[front], ki[front], gk[front], tw[front]
-    start, width, r = arcs(points[pi, :2], a[gk, ki], b[gk, ki])
-    pt, lo, hi, win, r = split_wrap(pi, start, width, tw, r)
+    start, end, r = arcs(points[pi, :2], a[gk, ki], b[gk, ki])
+    pt, lo, hi, win, r = split_wrap(pi, start, end, tw, r)
     return pt, win, lo, hi, r
 
 
@@ -292,8 +304,8 @@ def shadow_arcs(rg: RoomGeometry, points: np.ndarray, tri: np.ndarray, layer: np
         ob = np.where(~in_b[:, None], pb, m)
         for sel, ea, eb in ((inner_ok, ia, ib), (outer_ok, oa, ob)):
             idx = np.flatnonzero(sel)
-            start, width, r = arcs(points[pi[idx], :2], ea[idx], eb[idx])
-            p_, lo, hi, w_, r_ = split_wrap(pi[idx], start, width, np.full(len(idx), k), r)
+            start, end, r = arcs(points[pi[idx], :2], ea[idx], eb[idx])
+            p_, lo, hi, w_, r_ = split_wrap(pi[idx], start, end, np.full(len(idx), k), r)
             for acc, x in zip(out, (p_, w_, lo, hi, r_)):
                 acc.append(x)
     return tuple(np.concatenate(x) for x in out)
