@@ -133,14 +133,7 @@ def horizontal_fan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, se
     tol = np.radians(settings.angle_tolerance_deg)
     points = fan_heights(rg, points)
     ipt, start, width = fan_intervals(rg, points)
-    inset = np.minimum(0.5 * tol, 0.25 * width)
-    n = np.maximum(np.ceil(width / res - 1e-9), 1).astype(np.int64)
-    cnt = n + 1
-    base = (np.cumsum(cnt) - cnt).astype(np.int64)
-    iv = np.repeat(np.arange(len(ipt)), cnt)
-    k = np.arange(cnt.sum()) - base[iv]
-    lo_edge, hi_edge = start + inset, start + width - inset
-    ang = lo_edge[iv] + (hi_edge - lo_edge)[iv] * k / n[iv]
+    ang, iv, base, n, inset = fan_samples(ipt, start, width, res, tol)
     pidx = ipt[iv]
 
     def trace(pt_idx, angles):
@@ -260,7 +253,9 @@ def horizontal_plan(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, s
         far = (f_o >= 0) & ~near[np.maximum(f_o, 0)]
         # in a visible interval, blocked by a face plan did not see: before the glazing, or the
         # first one beyond it and interior (a ray that misses the glazing grazes its edge: plan decides)
-        far_blocked = measure(pt_idx, angles)[1] & far & (f_g >= 0) & (~through | (cls == BLOCKED))
+        far_blocked = far & (f_g >= 0) & (~through | (cls == BLOCKED))
+        idx = np.flatnonzero(far_blocked)
+        far_blocked[idx] = measure(pt_idx[idx], angles[idx])[1]
         return far_blocked, through & (cls != BLOCKED), f_g, f_o, t_o, t_g, d
 
     fb, leaves, f_g, f_o, t_o, t_g, dirs = trace(pidx, ang)
