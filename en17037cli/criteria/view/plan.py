@@ -357,19 +357,23 @@ def visible_intervals(scene: Scene, rg: RoomGeometry, points: np.ndarray, depth_
 def float_bound(n: np.ndarray, r: np.ndarray, scale: float) -> np.ndarray:
     """Bound on the round-off of a point's total angle [rad].
 
-    Each end of a piece is the azimuth of a cut point. The cut point and its offset from the eye
-    carry at most 6 u s of error (interpolation along an edge, or the crossing with a window's
-    line: 4 roundings of coordinates at most ``scale`` = s [m] in size; the difference: 2 more),
-    which turns the azimuth by at most 6 u s / r, r the distance from the eye to the nearest end of
-    any interval; atan2, the wrap to [0, 2 pi) and the difference hi - lo add at most 4 u 2 pi.
-    Summed over both ends of the point's n pieces: 2 n (6 u s / r + 8 u pi), u the unit
-    round-off of float64 (1.1e-16). About 1e-13 rad for a room 20 m across seen from 0.5 m.
+    Each end of a piece is the azimuth of a cut point v_lo + t (v_hi - v_lo) of an edge: t carries
+    3 u of relative error, the difference (at most 2 s, s = ``scale`` [m] the largest coordinate)
+    1 u, the product and the sum 2 more roundings, so the point is off by at most 10 u s, and its
+    offset from the eye by 11 u s; that turns the azimuth by at most 11 u s / r, r the distance
+    from the eye to the nearest end of any interval. atan2, the wrap to [0, 2 pi) and the
+    difference hi - lo add at most 4 u 2 pi. Summed over both ends of the point's n pieces, with a
+    margin: 2 n (16 u s / r + 8 u pi), u the unit round-off of float64 (1.1e-16); about 2e-13 rad
+    for a room 20 m across seen from 0.5 m. Where a window's line splits a segment, the split
+    point is as exact unless the segment crosses that line at a grazing angle: an ``interior``
+    face blocks on both sides, so only a ``landscape`` or ``ground`` face lying almost in a
+    window's plane, across it, is outside the bound.
 
     Parameters
     ----------
     n : (p,) int, pieces per point; r : (p,) float [m]; scale : float [m]
     """
     with np.errstate(divide="ignore"):
-        per_end = 6 * UNIT_ROUNDOFF * scale / np.where(np.isfinite(r), np.maximum(r, MIN_EYE_DISTANCE_M), 1.0) \
+        per_end = 16 * UNIT_ROUNDOFF * scale / np.where(np.isfinite(r), np.maximum(r, MIN_EYE_DISTANCE_M), 1.0) \
             + 8 * UNIT_ROUNDOFF * np.pi
     return 2 * n * per_end
