@@ -34,7 +34,8 @@ MULLION_PTS = np.array([[0.0, 7.5, 1.2], [0.6, 6.0, 1.7], [-0.8, 7.0, 1.2], [0.2
                         [0.45, 4.2, 1.2], [-0.55, 2.5, 1.7], [0.1, 6.6, 1.2]])
 
 
-# --- horizontal sight angle: the bisection's own tolerance --------------------------------------
+# --- horizontal sight angle: the fan's bisection and its own tolerance (view.sight_angle_method:
+# fan; the plan method is tested against closed forms in tests/reference/test_sight_angle_plan.py)
 
 def test_sight_angle_transitions_are_located_to_the_angle_tolerance(build):
     """Two mullions (each > 0.3 deg wide from these points, wider than the 0.2 deg fan step) give
@@ -43,7 +44,7 @@ def test_sight_angle_transitions_are_located_to_the_angle_tolerance(build):
     sight angle is within 4 x 1e-4 deg of the hand value (plus float32 rays)."""
     tol = 2e-4
     box = BoxRoom(depth=8.0, mullions=(-0.35, 0.35))
-    b = build(box, view={"horizontal_resolution_deg": 0.2, "angle_tolerance_deg": tol})
+    b = build(box, view={"horizontal_resolution_deg": 0.2, "angle_tolerance_deg": tol, "sight_angle_method": "fan"})
     r = b.view_points(MULLION_PTS)
     exact = np.array([mullion_sight_deg(p, box) for p in MULLION_PTS])
     assert r.sight.transitions.tolist() == [4] * len(MULLION_PTS)
@@ -56,7 +57,7 @@ def test_sight_angle_error_bound_and_ray_count_follow_the_settings(build):
     samples and 10 bisection rays per transition (res / tol = 1000, 2^10 = 1024)."""
     tol, res = 2e-4, 0.2
     box = BoxRoom(depth=8.0, mullions=(-0.35, 0.35))
-    b = build(box, view={"horizontal_resolution_deg": res, "angle_tolerance_deg": tol})
+    b = build(box, view={"horizontal_resolution_deg": res, "angle_tolerance_deg": tol, "sight_angle_method": "fan"})
     r = b.view_points(MULLION_PTS)
     assert np.all(r.sight.angle_err_deg <= 4 * tol + 2 * 0.5 * tol + 1e-12), r.sight.angle_err_deg
     assert np.all(r.sight.angle_err_deg >= 2 * 0.5 * tol)  # the insets alone
@@ -67,7 +68,7 @@ def test_sight_angle_error_bound_and_ray_count_follow_the_settings(build):
 def test_sight_angle_without_transitions_is_exact(build):
     """No reveal, no mullion: every fan ray leaves, the fan interval is the window's azimuth range
     computed exactly; only the insets are estimated."""
-    b = build(BoxRoom(), view={"horizontal_resolution_deg": 5.0, "angle_tolerance_deg": 0.01})
+    b = build(BoxRoom(), view={"horizontal_resolution_deg": 5.0, "angle_tolerance_deg": 0.01, "sight_angle_method": "fan"})
     pts = np.array([[0.3, 2.0, 1.2], [-1.5, 0.5, 1.7], [1.9, 0.2, 1.2]])
     r = b.view_points(pts)
     exact = [sight_angle_deg(p[0], p[1]) for p in pts]
@@ -101,7 +102,7 @@ def test_a_tolerance_coarser_than_the_fan_step_bisects_nothing(build):
     """angle_tolerance_deg >= horizontal_resolution_deg: the fan samples are already that close, so
     no bisection ray is traced and each transition's bracket is one fan step (<= 0.2 deg)."""
     box = BoxRoom(depth=8.0, mullions=(-0.35, 0.35))
-    b = build(box, view={"horizontal_resolution_deg": 0.2, "angle_tolerance_deg": 0.4})
+    b = build(box, view={"horizontal_resolution_deg": 0.2, "angle_tolerance_deg": 0.4, "sight_angle_method": "fan"})
     r = b.view_points(MULLION_PTS[:3])
     width = np.array([sight_angle_deg(p[0], p[1]) for p in MULLION_PTS[:3]])
     assert r.sight.rays.tolist() == (np.ceil(width / 0.2 - 1e-9) + 1).astype(int).tolist()

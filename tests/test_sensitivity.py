@@ -136,6 +136,38 @@ def csv_rows(path):
         return list(csv.DictReader(fh))
 
 
+def test_the_mullion_reading_moves_the_sight_angle_level_by_hand(tmp_path):
+    """Two 5 cm mullion plates 2 cm inside the opening (x = +-0.35) and one viewpoint (0, 3.85, 1.2) m:
+    the opening subtends 2 atan(1 / 3.85) = 29.12 deg (medium, 28 deg), the mullions' shadows 0.74 deg
+    each (atan2 by hand), 27.63 deg left (minimum). With view.mullions_block false the opening is
+    measured between its reveals: the level moves, and a room that requires medium depends on it."""
+    import yaml
+
+    from en17037cli.samples import MULLION_GAP
+    from en17037cli.studies.sensitivity import sensitivity
+
+    x0, y0 = 0.0, 3.85
+    opening = sight_angle_deg(x0, y0)
+    shadows = sum(np.degrees(np.arctan2(xm + 0.025 - x0, y0 - MULLION_GAP) - np.arctan2(xm - 0.025 - x0, y0 - MULLION_GAP))
+                  for xm in (-0.35, 0.35))
+    assert SIGHT.minimum < opening - shadows < SIGHT.medium < opening
+    p = box_room_project(tmp_path / "box", BoxRoom(mullions=(-0.35, 0.35)), sunlight=None,
+                         view={"eye_heights_m": [1.2], "angular_resolution_deg": 3.0, "refine_levels": 1})
+    doc = yaml.safe_load(p.read_text())
+    doc["rooms"][0].update({"view_points": [[x0, y0, 1.2]], "requirements": {"view": "medium"}})
+    doc["sensitivity"] = {"ranges": {k: [] for k in ("view.layer_threshold_sr", "view.eye_heights_m", "view.distance_method",
+                                                      "view.distance_statistic", "view.grid_offset", "view.grid_spacing_m",
+                                                      "view.wall_margin_m")}}
+    p.write_text(yaml.safe_dump(doc, sort_keys=False))
+    res = sensitivity(p, tmp_path / "study", log=lambda m: None)
+    rows = {r["value"]: r for r in csv_rows(tmp_path / "study" / "sensitivity.csv") if r["choice"] == "view.mullions_block"}
+    assert list(rows) == ["false"]  # true is the project's own setting
+    # sight angle medium without the mullions; distance (25 m, medium) and layers (all three) do not limit it
+    assert standard.level_index(rows["false"]["level"]) == 2
+    view = next(r for r in res["rooms"] if r["check"] == "view")
+    assert view["level"] == "minimum" and view["verdict"] == "depends on mullion reading"
+
+
 def test_a_room_beyond_every_choice_is_robust(tmp_path):
     """The box room's sunlight on 1-3 February from a south window: every date and every P passes
     minimum (hours well above 1.5 h): robust pass."""

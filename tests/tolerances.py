@@ -12,6 +12,9 @@ import numpy as np
 #: Horizontal sight angle [deg] at the defaults: at most two transitions bisected to
 #: ``view.angle_tolerance_deg`` (1e-4 deg) each, plus the fan's two end insets of half that.
 SIGHT_ANGLE_DEG = 3e-4
+#: Smallest sight-angle error a float64 closed form resolves [deg]: the plan method's error bound
+#: is round-off (about 1e-12 deg), the closed forms' own round-off about 1e-13 deg.
+SIGHT_ANGLE_ROUNDOFF_DEG = 1e-11
 #: Solid angle of a layer [sr] at the defaults (1 deg cells, 3 refinements), as the README's
 #: accuracy section states it: within max(1 %, 1e-3 sr) at the tested points (measured).
 def solid_angle_sr(exact: float) -> float:

@@ -234,6 +234,10 @@ def _check_consistency(path: Path, config: dict) -> None:
         t = config["thresholds"][key]
         if not t["minimum"] <= t["medium"] <= t["high"]:
             raise InputError(f"{path}: thresholds.{key}: expected minimum <= medium <= high, got {t}")
+    view = config.get("view") or {}
+    if view.get("sight_angle_method") == "fan" and view.get("mullions_block") is False:
+        raise InputError(f"{path}: view.mullions_block: false needs view.sight_angle_method: plan (the fan's rays stop "
+                         "at a mullion); remove one of the two")
     if "location" in config:
         tz = config["location"]["timezone"]
         try:

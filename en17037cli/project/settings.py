@@ -150,6 +150,8 @@ class ViewSettings:
     distance_method: str
     distance_statistic: str
     grid_offset: float = 0.0
+    sight_angle_method: str = "plan"  # plan | fan
+    mullions_block: bool = True  # members inside an opening cut the horizontal sight angle
 
 
 @dataclass(frozen=True)

@@ -65,7 +65,10 @@ def parameter_lines(report: dict) -> list[str]:
               f"(explicit view points where given); a layer counts when its solid angle exceeds {v['layer_threshold_sr']} sr; "
               f"a room reaches a level when {v['area_fraction']:.0%} of its points do; outside distance: {v['distance_method']} method, "
               f"{v['distance_statistic']} over the directions; angular resolution {v['angular_resolution_deg']} deg "
-              f"(refined {v['refine_levels']} times), horizontal fan {v['horizontal_resolution_deg']} deg."]
+              f"(refined {v['refine_levels']} times); horizontal sight angle "
+              + (f"in plan, mullions and transoms {'blocking' if v.get('mullions_block', True) else 'left out (the opening between its reveals)'}, "
+                 f"rays every {v['horizontal_resolution_deg']} deg beyond the glazing."
+                 if v.get("sight_angle_method", "plan") == "plan" else f"by a horizontal fan of {v['horizontal_resolution_deg']} deg.")]
     site = report["inputs"]["site"]
     if "sunlight" in cfg:
         s = cfg["sunlight"]

@@ -16,11 +16,15 @@ choice                    values tried                                          
 ``view.grid_offset``      half a cell                                                       view
 ``view.grid_spacing_m``   twice the project's                                               view
 ``view.wall_margin_m``    0.5, 1.0 m                                                        view
+``view.mullions_block``   true (mullions and transoms cut the sight angle), false (the     sight angle
+                          opening measured between its reveals)
 ========================  ===============================================================  ============
 
 Choices that do not change what is traced (the date, the layer threshold, the eye heights) are
 judged again from the stored values; the others run the criterion again on the same scene and
-ray engine (acceleration structures built once). For each room and check it reports the level
+ray engine (acceleration structures built once); the mullion reading changes only the
+horizontal sight angle, so the solid angles are reused. With ``view.sight_angle_method: fan`` the
+mullion reading is not tried (the fan's rays stop at a mullion). For each room and check it reports the level
 under the project's settings, the lowest and highest over the ranges, which choices move it, and
 a verdict: ``robust pass`` (every value passes), ``robust fail`` (none does) or ``depends on
 <choices>``; and the continuous scores (:mod:`en17037cli.criteria.view.scores`) for a tornado chart.
@@ -55,12 +59,14 @@ RANGES: dict[str, tuple] = {
     "view.grid_offset": (0.5,),
     "view.grid_spacing_m": ("x2",),
     "view.wall_margin_m": (0.5, 1.0),
+    "view.mullions_block": (True, False),
 }
 #: How the tables and charts name each choice.
 LABELS = {"sunlight.date": "assessed date", "sunlight.point_p": "point P", "view.layer_threshold_sr": "layer threshold",
           "view.eye_heights_m": "eye heights", "view.distance_method": "distance method",
           "view.distance_statistic": "distance statistic", "view.grid_offset": "grid offset",
-          "view.grid_spacing_m": "grid spacing", "view.wall_margin_m": "wall margin"}
+          "view.grid_spacing_m": "grid spacing", "view.wall_margin_m": "wall margin",
+          "view.mullions_block": "mullion reading"}
 #: P moves this far [m].
 P_SHIFT_M = 0.1
 
@@ -78,6 +84,8 @@ class Outcome:
 
 
 def _fmt(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
     if isinstance(v, tuple):
         return " + ".join(f"{x:g} m" for x in v)
     if isinstance(v, float):
@@ -204,17 +212,22 @@ def sensitivity(project_path: Path, out_dir: Path, overrides=(), log=print) -> d
                 log(f"  point P {how}: {time.perf_counter() - t:.2f} s")
         if view:
             for key in ("view.distance_method", "view.distance_statistic", "view.grid_offset", "view.grid_spacing_m",
-                        "view.wall_margin_m"):
+                        "view.wall_margin_m", "view.mullions_block"):
                 field = key.split(".", 1)[1]
                 for value in ranges[key]:
                     if value == "x2":
                         value = 2 * vs.grid_spacing_m
                     if value == getattr(vs, field):
                         continue  # the project's own setting: the default outcome
+                    if key == "view.mullions_block" and vs.sight_angle_method == "fan":
+                        log("  view.mullions_block: not tried with view.sight_angle_method: fan")
+                        continue
                     t = time.perf_counter()
                     proj = dataclasses.replace(project, view=dataclasses.replace(vs, **{field: value}))
                     # a statistic of the horizontal fan's distances: the solid angles stay as they were
-                    same_solid = key == "view.distance_statistic" and vs.distance_method == "horizontal"
+                    # and the mullion reading, which changes only the sight angle
+                    same_solid = (key == "view.distance_statistic" and vs.distance_method == "horizontal"
+                                  or key == "view.mullions_block")
                     for name, res in assess("view", proj, reuse=view if same_solid else None).items():
                         outcomes.append(Outcome(name, "view", key, _fmt(value), *view_outcome(res, proj.view, th)))
                     log(f"  {key} = {_fmt(value)}: {time.perf_counter() - t:.2f} s")

@@ -23,12 +23,27 @@ VIEW_METHOD = {
                       "layer's error estimate is within max(view.solid_angle_rel_tolerance x value, "
                       "view.solid_angle_abs_tolerance_sr); error = half the solid angle of the cells still mixed; features "
                       "narrower than a cell and not part of a frame can be missed",
-    "horizontal_sight_angle_deg": "horizontal fan over the azimuths of the windows every view.horizontal_resolution_deg, "
-                                  "each change between leaving through a window and blocked located by bisection to "
-                                  "view.angle_tolerance_deg; error = sum of remaining bracket widths and end insets",
+    "horizontal_sight_angle_deg": "in plan (view.sight_angle_method: plan): the eye-height plane cuts the windows and the "
+                                  "opaque faces within view.frame_depth_m of them and of the viewpoints into segments; the "
+                                  "windows' azimuth intervals minus the segments' shadows, exact by construction (members "
+                                  "inside an opening left out when view.mullions_block is false); rays every "
+                                  "view.horizontal_resolution_deg confirm what lies further beyond the glazing, a far interior "
+                                  "face bisected to view.angle_tolerance_deg; error = round-off bound plus those brackets",
+    "horizontal_sight_angle_deg_fan": "with view.sight_angle_method: fan: horizontal fan over the azimuths of the windows every "
+                                      "view.horizontal_resolution_deg, each change between leaving through a window and "
+                                      "blocked located by bisection to view.angle_tolerance_deg; error = sum of remaining "
+                                      "bracket widths and end insets (a gap narrower than the fan can be missed)",
     "outside_distance_m": "weighted statistic (view.distance_statistic) of the distance from the glazing plane to the "
                           "first landscape face, perpendicular to the window; error = gap to the neighbouring sampled distance",
 }
+
+
+def view_method(settings: ViewSettings) -> dict:
+    """:data:`VIEW_METHOD` with the sight-angle entry of the project's ``view.sight_angle_method``."""
+    out = {k: v for k, v in VIEW_METHOD.items() if not k.endswith("_fan")}
+    if settings.sight_angle_method == "fan":
+        out["horizontal_sight_angle_deg"] = VIEW_METHOD["horizontal_sight_angle_deg_fan"]
+    return out
 
 
 def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSettings,
@@ -88,7 +103,7 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
             "max_outside_distance_error_m": json_number(err["outside_distance_m"], 4),
             "smallest_feature_resolved_deg": {"solid_angle": settings.angular_resolution_deg,  # frames: exactly
                                               "horizontal_sight_angle": settings.horizontal_resolution_deg},
-            "method": VIEW_METHOD,
+            "method": view_method(settings),
         },
         "eye_heights": eye_out,
     }
