@@ -346,13 +346,17 @@ def exact_intervals(visibility, spline: SunSpline, sun_path, scene, room, index:
     slack = OMEGA_BOUND * spline.h  # the path between knots strays from the knots' band by less
     pair = (ehi[:, None] >= dlo[None, up_days] - slack) & (elo[:, None] <= dhi[None, up_days] + slack)
     ei, di = np.nonzero(pair)
-    key = np.concatenate([np.zeros(len(up_days), np.int64), ei + 1])
-    day = np.concatenate([up_days, up_days[di]])
+    ea, eb = _hour_angle_windows(spline, pole, u[ei], v[ei], a[up_days[di]], b[up_days[di]])
+    key = np.concatenate([np.zeros(len(up_days), np.int64), np.tile(ei + 1, 2)])
+    lo_dom = np.concatenate([a[up_days], ea[:, 0], ea[:, 1]])
+    hi_dom = np.concatenate([b[up_days], eb[:, 0], eb[:, 1]])
+    keep = hi_dom > lo_dom
+    key, lo_dom, hi_dom = key[keep], lo_dom[keep], hi_dom[keep]
 
     def values(k, t, pc):
         return np.einsum("ij,ij->i", spline(t, pc), normals[k])
 
-    rk, rlo, rhi, rsimple = root_brackets(values, lambda k, pc: spline.curvature[pc], key, a[day], b[day], tol, spline.h,
+    rk, rlo, rhi, rsimple = root_brackets(values, lambda k, pc: spline.curvature[pc], key, lo_dom, hi_dom, tol, spline.h,
                                           spline.piece, origin=spline.t0)
     # 3. keep an edge's crossings where the sun is on the arc (with the slack of its bracket)
     mid = 0.5 * (rlo + rhi)
@@ -387,6 +391,46 @@ def exact_intervals(visibility, spline: SunSpline, sun_path, scene, room, index:
     if len(i0):
         seen = _seen(one, spline, sun_path, tm, np.concatenate([alo, ahi]), settings.min_altitude_deg)
     return _merge(t_c, err_c, d_c, i0, seen, nd)
+
+
+#: Slack [s] on each edge's time window from its hour angles: covers the linear interpolation of the
+#: sun's hour angle between knots (its rate varies by well under 1 % within a knot interval).
+HOUR_ANGLE_SLACK_S = 120.0
+
+
+def _hour_angle_windows(spline: SunSpline, pole: np.ndarray, u: np.ndarray, v: np.ndarray, a: np.ndarray, b: np.ndarray):
+    """The times within [a, b] (one day each) when the sun's hour angle lies within that of the arc
+    from ``u`` to ``v`` (q, 3): outside them the sun cannot cross the arc.
+
+    Along a great circle that misses the pole the hour angle is monotonic, and an arc shorter than
+    180 deg spans less than 180 deg of it: the arc's hour angles are the short way between its
+    ends'. The sun's hour angle increases through the day, so the window is where it lies in that
+    range (up to two windows a day, where the range spans the day's end), widened by
+    :data:`HOUR_ANGLE_SLACK_S`.
+
+    Returns
+    -------
+    lo, hi : (q, 2) float [s], two windows each (empty where hi <= lo)
+    """
+    e1 = np.array([0.0, 0.0, 1.0]) - pole[2] * pole
+    e1 = e1 / np.linalg.norm(e1) if np.linalg.norm(e1) > 1e-9 else np.cross(pole, [1.0, 0.0, 0.0])
+    e2 = np.cross(pole, e1)
+    knot_t = spline.t0 + spline.h * np.arange(len(spline.s))
+    hk = np.unwrap(np.arctan2(spline.s @ e2, spline.s @ e1))
+    if hk[-1] < hk[0]:  # the sun's hour angle increases with time
+        e2, hk = -e2, -hk
+    hu, hv = np.arctan2(u @ e2, u @ e1), np.arctan2(v @ e2, v @ e1)
+    d = (hv - hu + np.pi) % (2 * np.pi) - np.pi
+    lo_h, w = hu + np.minimum(d, 0.0), np.abs(d)
+    ha, hb = np.interp(a, knot_t, hk), np.interp(b, knot_t, hk)
+    k0 = np.ceil((ha - w - lo_h) / (2 * np.pi))
+    out_lo, out_hi = np.empty((len(u), 2)), np.empty((len(u), 2))
+    for j in range(2):  # the two turns of the hour angle that can meet a day
+        start = lo_h + 2 * np.pi * (k0 + j)
+        t_lo = np.interp(start, hk, knot_t) - HOUR_ANGLE_SLACK_S
+        t_hi = np.interp(start + w, hk, knot_t) + HOUR_ANGLE_SLACK_S
+        out_lo[:, j], out_hi[:, j] = np.maximum(t_lo, a), np.minimum(t_hi, b)
+    return out_lo, out_hi
 
 
 def _seen(one, spline: SunSpline, sun_path, tm: np.ndarray, alt_times: np.ndarray, min_alt: float) -> np.ndarray:
