@@ -347,9 +347,9 @@ def exact_intervals(visibility, spline: SunSpline, sun_path, scene, room, index:
     pair = (ehi[:, None] >= dlo[None, up_days] - slack) & (elo[:, None] <= dhi[None, up_days] + slack)
     ei, di = np.nonzero(pair)
     ea, eb = _hour_angle_windows(spline, pole, u[ei], v[ei], a[up_days[di]], b[up_days[di]])
-    key = np.concatenate([np.zeros(len(up_days), np.int64), np.tile(ei + 1, 2)])
-    lo_dom = np.concatenate([a[up_days], ea[:, 0], ea[:, 1]])
-    hi_dom = np.concatenate([b[up_days], eb[:, 0], eb[:, 1]])
+    key = np.concatenate([np.zeros(len(up_days), np.int64), np.tile(ei + 1, TURNS)])
+    lo_dom = np.concatenate([a[up_days], ea.T.ravel()])
+    hi_dom = np.concatenate([b[up_days], eb.T.ravel()])
     keep = hi_dom > lo_dom
     key, lo_dom, hi_dom = key[keep], lo_dom[keep], hi_dom[keep]
 
@@ -396,6 +396,9 @@ def exact_intervals(visibility, spline: SunSpline, sun_path, scene, room, index:
 #: Slack [s] on each edge's time window from its hour angles: covers the linear interpolation of the
 #: sun's hour angle between knots (its rate varies by well under 1 % within a knot interval).
 HOUR_ANGLE_SLACK_S = 120.0
+#: Turns of the sun's hour angle tried per (edge, day): the first whose window can reach the day, and
+#: the next two (a day spans less than one turn, so no later turn reaches it).
+TURNS = 3
 
 
 def _hour_angle_windows(spline: SunSpline, pole: np.ndarray, u: np.ndarray, v: np.ndarray, a: np.ndarray, b: np.ndarray):
@@ -410,7 +413,7 @@ def _hour_angle_windows(spline: SunSpline, pole: np.ndarray, u: np.ndarray, v: n
 
     Returns
     -------
-    lo, hi : (q, 2) float [s], two windows each (empty where hi <= lo)
+    lo, hi : (q, TURNS) float [s], the windows (empty where hi <= lo)
     """
     e1 = np.array([0.0, 0.0, 1.0]) - pole[2] * pole
     e1 = e1 / np.linalg.norm(e1) if np.linalg.norm(e1) > 1e-9 else np.cross(pole, [1.0, 0.0, 0.0])
@@ -422,10 +425,10 @@ def _hour_angle_windows(spline: SunSpline, pole: np.ndarray, u: np.ndarray, v: n
     hu, hv = np.arctan2(u @ e2, u @ e1), np.arctan2(v @ e2, v @ e1)
     d = (hv - hu + np.pi) % (2 * np.pi) - np.pi
     lo_h, w = hu + np.minimum(d, 0.0), np.abs(d)
-    ha, hb = np.interp(a, knot_t, hk), np.interp(b, knot_t, hk)
-    k0 = np.ceil((ha - w - lo_h) / (2 * np.pi))
-    out_lo, out_hi = np.empty((len(u), 2)), np.empty((len(u), 2))
-    for j in range(2):  # the two turns of the hour angle that can meet a day
+    ha = np.interp(a, knot_t, hk)
+    k0 = np.ceil((ha - w - lo_h - 2 * OMEGA_BOUND * HOUR_ANGLE_SLACK_S) / (2 * np.pi))
+    out_lo, out_hi = np.empty((len(u), TURNS)), np.empty((len(u), TURNS))
+    for j in range(TURNS):  # the turns of the hour angle that can meet a day (a day spans less than one)
         start = lo_h + 2 * np.pi * (k0 + j)
         t_lo = np.interp(start, hk, knot_t) - HOUR_ANGLE_SLACK_S
         t_hi = np.interp(start + w, hk, knot_t) + HOUR_ANGLE_SLACK_S
