@@ -389,7 +389,7 @@ def exact_intervals(visibility, spline: SunSpline, sun_path, scene, room, index:
     tm = 0.5 * (t_c[i0] + t_c[i0 + 1])
     seen = np.zeros(len(i0), bool)
     if len(i0):
-        seen = _seen(one, spline, sun_path, tm, np.concatenate([alo, ahi]), settings.min_altitude_deg)
+        seen = _seen(one, spline, sun_path, tm, settings.min_altitude_deg)
     return _merge(t_c, err_c, d_c, i0, seen, nd)
 
 
@@ -436,19 +436,22 @@ def _hour_angle_windows(spline: SunSpline, pole: np.ndarray, u: np.ndarray, v: n
     return out_lo, out_hi
 
 
-def _seen(one, spline: SunSpline, sun_path, tm: np.ndarray, alt_times: np.ndarray, min_alt: float) -> np.ndarray:
-    """Visibility at the midpoints ``tm``: directions from the spline; the elevation from the SPA
-    itself within two knots of a minimum-altitude crossing, from the spline elsewhere."""
+#: Below this apparent elevation [deg] the spline may be off by the SPA's switch of its refraction
+#: formula at the horizon (-0.83 deg; the knots' differences reach two knots, 20 min, beyond it):
+#: midpoints there take their elevation from the SPA itself.
+SPLINE_MIN_ELEVATION_DEG = 10.0
+
+
+def _seen(one, spline: SunSpline, sun_path, tm: np.ndarray, min_alt: float) -> np.ndarray:
+    """Visibility at the midpoints ``tm``: directions from the spline; the elevation too, but from
+    the SPA itself where the spline gives less than :data:`SPLINE_MIN_ELEVATION_DEG` and is within
+    1 deg of ``min_alt``."""
     d = spline(tm)
     d /= np.linalg.norm(d, axis=1)[:, None]
     elev = np.degrees(np.arcsin(np.clip(d[:, 2], -1, 1)))
-    if len(alt_times):
-        srt = np.sort(alt_times)
-        j = np.searchsorted(srt, tm)
-        gap = np.minimum(np.abs(tm - srt[np.clip(j - 1, 0, len(srt) - 1)]), np.abs(tm - srt[np.clip(j, 0, len(srt) - 1)]))
-        near = gap <= 2 * spline.h
-        if near.any():
-            elev[near] = sun_path(tm[near])[0]
+    near = (elev < SPLINE_MIN_ELEVATION_DEG) & (np.abs(elev - min_alt) < 1.0)
+    if near.any():
+        elev[near] = sun_path(tm[near])[0]
     up = elev >= min_alt
     seen = np.zeros(len(tm), bool)
     if up.any():
