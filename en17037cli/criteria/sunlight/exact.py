@@ -213,24 +213,39 @@ def cull_triangles(vertices: np.ndarray, triangles: np.ndarray, faces: np.ndarra
     """
     if len(faces) == 0:
         return faces
-    used = np.unique(triangles[faces])
-    rel = np.zeros_like(vertices)
-    rel[used] = vertices[used] - p
-    scale = np.linalg.norm(rel[used], axis=1).max() if len(used) else 1.0
-    eps = ANGLE_SLACK * scale
-    # linear tests per vertex: a face is outside a plane through p when all three corners are
-    front = (rel @ normal > -eps)[triangles[faces]].any(axis=1)
-    keep = front.copy()
-    if len(pyramids):
-        in_any = np.zeros(len(faces), bool)
-        for g in pyramids:  # one pyramid per window of the room
-            inside = np.ones(len(faces), bool)
-            for gi in g:
-                gi = gi / np.linalg.norm(gi)
-                inside &= (rel @ gi > -eps)[triangles[faces]].any(axis=1)
-            in_any |= inside
-        keep &= in_any
-    cand = faces[keep]
+    rel = vertices - p
+    dist = np.linalg.norm(rel, axis=1)
+    eps = ANGLE_SLACK * dist
+    tri = triangles[faces]
+    # linear tests per vertex, as bits: a face is outside a plane through p when all three corners are
+    front = rel @ normal > -eps
+    if len(pyramids) == 0:
+        keep = front[tri].any(axis=1)
+    else:
+        keep = np.zeros(len(faces), bool)
+        for g in pyramids:  # one pyramid per window of the room: bit 0 in front, bits 1-4 inside each side
+            bits = front.astype(np.uint8)
+            for i, gi in enumerate(g):
+                bits |= (rel @ (gi / np.linalg.norm(gi)) > -eps).astype(np.uint8) << (i + 1)
+            corner = bits[tri]
+            keep |= (corner[:, 0] | corner[:, 1] | corner[:, 2]) == 0b11111
+    cand, tri = faces[keep], tri[keep]
+    if len(cand) == 0:
+        return cand
+    # a quick bound first: the spherical triangle lies in the cap about its first corner through the
+    # farthest corner (a cap under 90 deg is convex), so altitude and declination stay within that
+    # radius of the first corner's
+    unit = rel / np.maximum(dist, 1e-300)[:, None]
+    alt = np.arcsin(np.clip(unit[:, 2], -1, 1))
+    dec = np.arcsin(np.clip(unit @ pole, -1, 1))
+    u0 = unit[tri[:, 0]]
+    chord = np.maximum(np.linalg.norm(unit[tri[:, 1]] - u0, axis=1), np.linalg.norm(unit[tri[:, 2]] - u0, axis=1))
+    r = 2 * np.arcsin(np.clip(chord / 2, 0, 1)) + ANGLE_SLACK
+    a0, d0 = alt[tri[:, 0]], dec[tri[:, 0]]
+    sin_lo, sin_hi = np.arcsin(np.clip(sin_dec[0], -1, 1)), np.arcsin(np.clip(sin_dec[1], -1, 1))
+    close = dist[tri].min(axis=1) <= 1e-9
+    maybe = close | (r >= np.pi / 2) | ((a0 + r >= np.arcsin(sin_min_alt)) & (d0 + r >= sin_lo) & (d0 - r <= sin_hi))
+    cand = cand[maybe]
     if len(cand) == 0:
         return cand
     u = rel[triangles[cand]]
