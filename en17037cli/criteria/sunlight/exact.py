@@ -437,6 +437,7 @@ def _hour_angle_windows(spline: SunSpline, pole: np.ndarray, u: np.ndarray, v: n
     hk = np.unwrap(np.arctan2(spline.s @ e2, spline.s @ e1))
     if hk[-1] < hk[0]:  # the sun's hour angle increases with time
         e2, hk = -e2, -hk
+    hk = np.maximum.accumulate(hk)  # refraction's switch at the horizon may dent it; interp needs it rising
     hu, hv = np.arctan2(u @ e2, u @ e1), np.arctan2(v @ e2, v @ e1)
     d = (hv - hu + np.pi) % (2 * np.pi) - np.pi
     lo_h, w = hu + np.minimum(d, 0.0), np.abs(d)
