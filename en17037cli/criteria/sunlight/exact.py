@@ -272,9 +272,10 @@ def pole_vector(latitude_deg: float, true_north_deg: float) -> np.ndarray:
 def _min_altitude_roots(spline: SunSpline, sun_path, t0: np.ndarray, t1: np.ndarray, min_alt: float, tolerance_s: float):
     """Brackets of the times the SPA's apparent elevation crosses ``min_alt`` [deg], every day.
 
-    Elevation at the knots comes from the spline's SPA call; elsewhere from the SPA itself. Its
-    second derivative is bounded by :data:`OMEGA_BOUND` squared (a point on a circle turning at the
-    sun's rate, refraction included), in deg/s^2.
+    Elevation at the knots comes from the spline's SPA call; elsewhere from the SPA itself. The
+    function searched is sin(elevation) - sin(min_alt), the vertical component of the sun vector,
+    whose second derivative is bounded by :data:`OMEGA_BOUND` squared (a point on a circle turning
+    at the sun's rate, refraction included) at any elevation.
     """
     knot_t = spline.t0 + spline.h * np.arange(len(spline.elev))
 
@@ -287,9 +288,9 @@ def _min_altitude_roots(spline: SunSpline, sun_path, t0: np.ndarray, t1: np.ndar
         rest = ~(at_lo | at_hi)
         if rest.any():
             out[rest] = sun_path(t[rest])[0]
-        return out - min_alt
+        return np.sin(np.radians(out)) - np.sin(np.radians(min_alt))
 
-    curv = OMEGA_BOUND**2 * np.degrees(1.0)
+    curv = OMEGA_BOUND**2  # on sin(elevation), the vertical component of the sun vector: |s''| ~ omega^2 cos(dec)
     days = np.arange(len(t0))
     return root_brackets(values, lambda k, pc: np.full(len(k), curv), days, t0, t1, tolerance_s, spline.h,
                          spline.piece, origin=spline.t0)
