@@ -169,6 +169,7 @@ class SunSettings:
     pressure_mbar: float
     temperature_c: float
     max_reveal_depth_m: float
+    method: str = "exact"  # exact | sampled
 
 
 @dataclass(frozen=True)

@@ -74,8 +74,11 @@ def parameter_lines(report: dict) -> list[str]:
         s = cfg["sunlight"]
         L += [f"Sunlight: year {s['year']}, period {s['period']['start']} to {s['period']['end']}, assessed date {s['date']}; "
               f"sun counted above {s['min_altitude_deg']} deg apparent altitude (refraction {'on' if s['refraction'] else 'off'}); "
-              f"timestep {s['timestep_min']} min with changes located to {s['tolerance_s']} s; point P per EN 17037 A.3 on the "
-              f"room-side plane of the opening unless given.",
+              + (f"exact method: edge-crossing times located to {s['tolerance_s']} s; "
+                 if s.get("method", "exact") == "exact" else
+                 f"timestep {s['timestep_min']} min with changes located to {s['tolerance_s']} s; ")
+              + "point P per EN 17037 A.3 on the "
+              "room-side plane of the opening unless given.",
               f"Location: {site['latitude']} N, {site['longitude']} E, {site['timezone']}; "
               f"true north {site['true_north_deg']} deg clockwise from model +Y."]
         L += [f"{key} {v['value']} from {v['source']}." for key, v in report["inputs"].get("resolved", {}).items()]

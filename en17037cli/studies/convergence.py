@@ -75,8 +75,9 @@ LADDERS = (
     # reference 1e-5 deg: finer brackets are below the float32 resolution of a ray direction (about 3e-6 deg)
     Ladder("view.angle_tolerance_deg", (0.1, 0.01, 1e-3, 1e-4), {"view.angle_tolerance_deg": 1e-5}, ("sight_angle",)),
     Ladder("view.grid_spacing_m", (2.0, 1.0, 0.5), {"view.grid_spacing_m": 0.25}, ("share_medium",), per_point=False),
-    Ladder("sunlight.timestep_min", (60.0, 15.0, 5.0, 2.0, 1.0), {"sunlight.timestep_min": 0.25, "sunlight.tolerance_s": 0.01},
-           ("hours",), extra={"sunlight.tolerance_s": 0.01}),
+    # the sampled method's timestep against the exact method (edge crossings) at a finer tolerance
+    Ladder("sunlight.timestep_min", (60.0, 15.0, 5.0, 2.0, 1.0), {"sunlight.method": "exact", "sunlight.tolerance_s": 0.001},
+           ("hours",), extra={"sunlight.tolerance_s": 0.01, "sunlight.method": "sampled"}),
     Ladder("sunlight.tolerance_s", (60.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("hours",)),
 )
 

@@ -1,7 +1,8 @@
 """EN 17037 clause 5.3, Exposure to sunlight: hours of sun seen from point P on the assessed day.
 
 * point P (Annex A.3): :mod:`.point_p`; the sun: :mod:`.solar_position` (NREL SPA)
-* visibility from P: :mod:`.visibility`; the days and their intervals: :mod:`.intervals`
+* visibility from P: :mod:`.visibility`; the days and their intervals: :mod:`.exact` (``sunlight.method:
+  exact``, every time visibility can change, from the geometry) or :mod:`.intervals` (``sampled``)
 * per room: :mod:`.assess` into :mod:`.results`; report section: :mod:`.report`
 """
 from __future__ import annotations

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from en17037cli import standard
+from en17037cli.criteria.sunlight.exact import SunSpline, exact_intervals, union_intervals
 from en17037cli.criteria.sunlight.intervals import day_bounds, visible_intervals
 from en17037cli.criteria.sunlight.point_p import point_p
 from en17037cli.criteria.sunlight.results import SunlightResult
@@ -56,17 +57,23 @@ def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettin
     vis = SunVisibility(engine, pts[ok], normals[ok], room_window_group(room), location, settings, scene.true_north_deg, sun_path)
     dates, t0, t1 = day_bounds(settings.year, settings.period_start, settings.period_end, location.timezone)
     step = settings.timestep_min * 60.0
-    intervals, err_s = visible_intervals(vis, t0, t1, step, settings.tolerance_s)
-    hours = np.array([float(np.sum(iv[:, 1] - iv[:, 0])) / 3600.0 for iv in intervals])
     window_hours = np.full((len(room.windows), len(dates)), np.nan)
-    if ok.sum() == 1:
-        window_hours[ok] = hours
-    else:  # each window alone: its own intervals (for the report; the room's hours are their union)
-        for i in np.flatnonzero(ok):  # one pass per window with a point P
-            one = SunVisibility(engine, pts[i:i + 1], normals[i:i + 1], room_window_group(room), location, settings,
-                                scene.true_north_deg, sun_path)
-            iv, _ = visible_intervals(one, t0, t1, step, settings.tolerance_s)
+    if settings.method == "exact":
+        intervals, err_s, per_window = _exact(vis, scene, room, location, settings, t0, t1, sun_path)
+        for i, iv in zip(np.flatnonzero(ok), per_window):
             window_hours[i] = [float(np.sum(x[:, 1] - x[:, 0])) / 3600.0 for x in iv]
+        hours = np.array([float(np.sum(iv[:, 1] - iv[:, 0])) / 3600.0 for iv in intervals])
+    else:
+        intervals, err_s = visible_intervals(vis, t0, t1, step, settings.tolerance_s)
+        hours = np.array([float(np.sum(iv[:, 1] - iv[:, 0])) / 3600.0 for iv in intervals])
+        if ok.sum() == 1:
+            window_hours[ok] = hours
+        else:  # each window alone: its own intervals (for the report; the room's hours are their union)
+            for i in np.flatnonzero(ok):  # one pass per window with a point P
+                one = SunVisibility(engine, pts[i:i + 1], normals[i:i + 1], room_window_group(room), location, settings,
+                                    scene.true_north_deg, sun_path)
+                iv, _ = visible_intervals(one, t0, t1, step, settings.tolerance_s)
+                window_hours[i] = [float(np.sum(x[:, 1] - x[:, 0])) / 3600.0 for x in iv]
     k = assessed_day(hours, dates, settings.date)
     err_h = err_s / 3600.0
     level = int(standard.level_from_value([hours[k]], thresholds.sunlight_hours)[0])
@@ -74,6 +81,20 @@ def assess_room(engine: RayEngine, scene: Scene, room: Room, settings: SunSettin
     return SunlightResult(points_local=pts, reveal_depths_m=depths, dates=dates, hours=hours, intervals=intervals,
                           error_h=err_h, assessed_index=k, level=level, near_threshold=near, timestep_s=step, notes=notes,
                           window_problems=problems, window_hours=window_hours)
+
+
+def _exact(vis: SunVisibility, scene: Scene, room: Room, location: Location, settings: SunSettings, t0, t1,
+           sun_path: SunPath | None):
+    """``sunlight.method: exact`` (:mod:`.exact`): each point P's intervals by edge crossings, the
+    room's as their union; the error bound of the room adds the points' bounds."""
+    spline = SunSpline(vis.sun_path, float(t0[0]), float(t1[-1]), scene.true_north_deg)
+    per_window, errors = [], []
+    for i in range(len(vis.points)):  # one pass per window with a point P
+        iv, e = exact_intervals(vis, spline, vis.sun_path, scene, room, i, t0, t1, settings, float(location.latitude))
+        per_window.append(iv)
+        errors.append(e)
+    intervals, err = union_intervals(per_window, errors, len(t0))
+    return intervals, err, per_window
 
 
 def check_sun_points(room: Room) -> None:

@@ -10,11 +10,19 @@ from en17037cli.report.numbers import iso_time, json_limit, json_number, json_sc
 from en17037cli.scene.model import Room, Scene
 from en17037cli.standard import LEVELS
 
-#: How the sun hours are computed and what their error estimate means (repeated in the report).
-SUN_METHOD = ("sun position by NREL SPA (Reda and Andreas 2004); visibility sampled every sunlight.timestep_min, each "
-              "change located by bisection to sunlight.tolerance_s; error = sum of remaining half-brackets; intervals "
-              "shorter than the timestep may be missed")
-
+#: How the sun hours are computed and what their error estimate means (repeated in the report), per
+#: ``sunlight.method``.
+SUN_METHODS = {
+    "exact": ("sun position by NREL SPA (Reda and Andreas 2004); exact: edge-crossing times, polished to "
+              "sunlight.tolerance_s (every time the sun's path crosses the image of an edge of a face that can occlude, "
+              "the window's plane or the minimum altitude, bracketed to the tolerance; one ray between consecutive "
+              "times); error = bound: sum of the brackets' half-widths at the ends of the day's intervals; no interval "
+              "longer than the tolerance is missed"),
+    "sampled": ("sun position by NREL SPA (Reda and Andreas 2004); visibility sampled every sunlight.timestep_min, each "
+                "change located by bisection to sunlight.tolerance_s; error = sum of remaining half-brackets; intervals "
+                "shorter than the timestep may be missed"),
+}
+SUN_METHOD = SUN_METHODS["sampled"]
 
 def sunlight_score(hours: float, level: int, thresholds: standard.LevelThresholds) -> dict:
     """The sunlight score in report.json: hours on the assessed day [h], the score in [0, 3]
@@ -56,8 +64,9 @@ def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: st
         "error_estimates": {
             "hours_error_h": json_number(res.error_h[k], 5),
             "max_hours_error_h": json_number(float(np.max(res.error_h)), 5),
-            "shortest_interval_always_resolved_min": json_number(settings.timestep_min, 4),
-            "method": SUN_METHOD,
+            "shortest_interval_always_resolved_min": json_number(
+                settings.tolerance_s / 60.0 if settings.method == "exact" else settings.timestep_min, 6),
+            "method": SUN_METHODS[settings.method],
         },
         "windows": windows,
         "days": days,

@@ -60,7 +60,13 @@ class SunVisibility:
         seen = np.zeros(len(t), dtype=bool)
         if not up.any():
             return seen
-        d = direction_vectors(elev, azim, self.north)
+        return self.seen_along(direction_vectors(elev, azim, self.north), up)
+
+    def seen_along(self, d: np.ndarray, up: np.ndarray) -> np.ndarray:
+        """(n,) bool: the sun is seen from P along unit directions ``d`` (n, 3) where ``up`` (n,) (above
+        the minimum altitude): a ray in front of a window's plane that leaves through a window of the
+        room and meets no face that blocks the sun."""
+        seen = np.zeros(len(d), dtype=bool)
         for p, n in zip(self.points, self.normals):  # one pass per window of the room
             cand = np.flatnonzero(up & ~seen & (d @ n > 0))  # no ray below the altitude or behind the window
             if len(cand) == 0:
