@@ -86,7 +86,7 @@ def check_budget(project: Project, scene: Scene, max_points: int) -> tuple[int, 
                     f"{where}: rooms[{room.spec.index}] '{room.name}': about {n:,.0f} viewpoints and {c:,.0f} sampling cells, "
                     f"over the budget of {max_points:,} viewpoints ({max_points * CELLS_PER_POINT:,.0f} cells) a run may have; "
                     "check the floor's units and view.grid_spacing_m / view.angular_resolution_deg, or raise --max-points")
-    if project.sunlight is not None:
+    if project.sunlight is not None and project.sunlight.method == "sampled":  # exact: SPA knots every 10 min
         s = project.sunlight
         from en17037cli.criteria.sunlight.intervals import day_bounds
 

@@ -119,7 +119,7 @@ CASES = [
     ("grid-budget", doc_edit(lambda d: d["view"].update(grid_spacing_m=1e-4)), "viewpoints and"),
     ("floor-in-mm", doc_edit(lambda d: d["rooms"][0].update(floor=[[-2000, 0], [2000, 0], [2000, 6000], [-2000, 6000]])),
      "check the floor's units"),
-    ("sun-sample-budget", doc_edit(lambda d: d["sunlight"].update(timestep_min=0.0167, period={"start": "01-01", "end": "12-31"})),
+    ("sun-sample-budget", doc_edit(lambda d: d["sunlight"].update(method="sampled", timestep_min=0.0167, period={"start": "01-01", "end": "12-31"})),
      "sun samples a room"),
     # --- project files ----------------------------------------------------------------------
     ("empty-file", whole_file(b""), "expected a mapping of keys"),
