@@ -249,6 +249,32 @@ class RayEngine:
             return [fn(a, b) for a, b in bounds]
         return list(self._pool.map(lambda ab: fn(*ab), bounds))
 
+    def map_chunks(self, fn: Callable[[int, int], object], n: int) -> list:
+        """``fn(a, b)`` over the chunks [a, b) of ``n`` rays on the engine's threads (results in order).
+
+        For callers that compute their rays and use the hits per chunk: the maths beside the
+        queries (numpy, which releases the GIL on large arrays) then runs on every core too.
+        Queries inside ``fn`` go through :meth:`first_hit_chunk` and are counted by the caller
+        (:meth:`count_rays`).
+        """
+        return self._map(fn, n)
+
+    def first_hit_chunk(self, group: str, o32: np.ndarray, d32: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`first_hit` of one chunk in the calling thread: contiguous float32 (k, 3) rays,
+        at most :data:`CHUNK`; not counted in :attr:`rays_traced`."""
+        k = len(o32)
+        es, faces = self._group(group)
+        if es is None or k == 0:
+            return np.full(k, -1, dtype=np.int64), np.full(k, np.inf)
+        r = es.run(o32, d32, output=1)
+        prim = r["primID"]
+        hit = prim >= 0
+        return np.where(hit, faces[np.maximum(prim, 0)], -1), np.where(hit, r["tfar"].astype(np.float64), np.inf)
+
+    def count_rays(self, n: int) -> None:
+        """Add ``n`` rays traced through :meth:`first_hit_chunk` to :attr:`rays_traced`."""
+        self.rays_traced += n
+
     def first_hit(self, group: str, origins, directions) -> tuple[np.ndarray, np.ndarray]:
         """Nearest hit of each ray with the faces of ``group``.
 
