@@ -27,10 +27,9 @@ def read_obj(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read a Wavefront OBJ file: ``v``, ``f`` (any ``v/vt/vn`` form, negative indices),
     ``o``, ``g`` and ``usemtl`` for names. Other statements are ignored."""
     try:
-        data = path.read_bytes()
+        got = _read_fast(path.read_bytes())  # the bytes are freed as soon as they are decoded
     except OSError as exc:
         raise InputError(f"{path}: cannot read model file: {exc.strerror}") from None
-    got = _read_fast(data)
     if got is None:
         return _read_lines(path)
     verts, flat, sizes, face_names, keys, bad_faces = got
@@ -75,6 +74,7 @@ def _read_fast(data: bytes):
     in order of first use, faces dropped for fewer than 3 vertices; None for a file the
     line-by-line reader must read (see the module's docstring)."""
     buf = data.decode("utf-8-sig", errors="replace").encode("utf-8")  # as the text-mode reader decodes it
+    del data
     if b"\r" in buf:  # universal newlines
         buf = buf.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
     if not buf.endswith(b"\n"):
@@ -117,13 +117,13 @@ def _read_fast(data: bytes):
     is_name |= usemtl & ends(at(6))
     # the numbers of v and f lines: the bytes after the one-letter tag up to the newline
     line_len = nl - starts + 1
-    flat_sp = np.where(arr == 10, np.uint8(32), arr)
 
     def tokens(mask):
         """(bytes of the lines in ``mask`` after their tag, tokens per line, longest token), or None if not plain ASCII."""
         sel = np.repeat(mask, line_len)
         sel[starts[mask]] = False  # the tag
-        b = flat_sp[sel]
+        b = arr[sel]
+        b[b == 10] = 32  # each line's newline: a space between its last token and the next line's first
         if (b >= 128).any():
             return None
         sp = is_space(b)
