@@ -113,14 +113,13 @@ def _cell_weights(rg: RoomGeometry, P: Patches, patch, G, full):
 
     Parameters
     ----------
-    G : (m, 12) float, cell bounds alpha0, alpha1, beta0, beta1 [rad] in the first columns, their
-        tangents X0, X1, Y0, Y1 [-] in columns 8 to 11 (see :class:`_Cells`)
+    G : (m, >= 4) float, cell bounds alpha0, alpha1, beta0, beta1 [rad] in the first columns
 
     Returns
     -------
     weight (m,) [sr], full (m,) bool, extra (m, 2) [rad]
     """
-    X0, X1, Y0, Y1 = (G[:, i] for i in range(8, 12))
+    X0, X1, Y0, Y1 = (np.tan(G[:, i]) for i in range(4))
     weight = offset_rectangle_solid_angle(X0, X1, Y0, Y1)
     full = full.copy()
     extra = np.full((len(G), 2), np.nan)
@@ -182,8 +181,7 @@ class _Cells:
     """Sampling cells: bounds and sample positions in (alpha, beta), their samples' classes, weights.
 
     G columns: alpha0, alpha1, beta0, beta1 (the cell), then the same for its samples (moved
-    inwards on a window's outline) [rad], then the tangents of the cell's bounds X0, X1, Y0, Y1
-    [-] (taken once, when the cell is made). ``cls`` columns: corners (a0 b0), (a1 b0), (a0 b1),
+    inwards on a window's outline) [rad]. ``cls`` columns: corners (a0 b0), (a1 b0), (a0 b1),
     (a1 b1) and one extra sample inside the window for cells with no corner in it (-1: none).
     ``piece_cell`` and ``piece_xy``: the pieces of frame-edge images inside each cell (cell index;
     endpoints X0, Y0, X1, Y1 in gnomonic coordinates [-]); a cell with a piece counts as mixed.
@@ -257,7 +255,7 @@ class _Cells:
         order = np.lexsort((-length, part))
         first = order[np.r_[True, part[order][1:] != part[order][:-1]]]
         c = pc[first]
-        X0, X1, Y0, Y1 = (self.G[c, i] for i in range(8, 12))
+        X0, X1, Y0, Y1 = (np.tan(self.G[c, i]) for i in range(4))
         step = PROBE_INSET * np.minimum(X1 - X0, Y1 - Y0) / length[first]
         normal = np.column_stack([-d[first, 1], d[first, 0]]) * step[:, None]
         px = np.clip(np.concatenate([mid[first, 0] + normal[:, 0], mid[first, 0] - normal[:, 0]]), np.tile(X0, 2), np.tile(X1, 2))
@@ -312,10 +310,8 @@ def _base_cells(sample, P: Patches) -> _Cells:
 
     corner = np.stack([sample_index(la_r[li], lb_r[lj]), sample_index(la_l[li + 1], lb_r[lj]),
                        sample_index(la_r[li], lb_l[lj + 1]), sample_index(la_l[li + 1], lb_l[lj + 1])], axis=1)
-    ta, tb = np.tan(la), np.tan(lb)
     G = np.column_stack([la[li], la[li + 1], lb[lj], lb[lj + 1],
-                         ca[la_r[li]], ca[la_l[li + 1]], cb[lb_r[lj]], cb[lb_l[lj + 1]],
-                         ta[li], ta[li + 1], tb[lj], tb[lj + 1]])
+                         ca[la_r[li]], ca[la_l[li + 1]], cb[lb_r[lj]], cb[lb_l[lj + 1]]])
     cls = np.concatenate([vcls[corner], np.full((len(cp), 1), -1, np.int8)], axis=1)
     dist = None if vdist is None else np.concatenate([vdist[corner], np.full((len(cp), 1), np.inf)], axis=1)
     weight, full, extra = _cell_weights(sample.rg, P, cp, G, sample.rect[P.win[cp]])
@@ -460,20 +456,17 @@ def _split(sample, cells: _Cells) -> _Cells:
     na = np.concatenate([Am, Am, G[:, 4], G[:, 5], Am])
     nb = np.concatenate([G[:, 6], G[:, 7], Bm, Bm, Bm])
     ncls, ndist = sample(np.tile(cells.patch, 5), na, nb)
-    tAm, tBm = np.tan(Am), np.tan(Bm)
-    GG = np.column_stack([G[:, :8], Am, Bm])
-    TT = np.column_stack([G[:, 8:], tAm, tBm])  # tangents of GG's columns 0-3, 8 and 9
-    tcol = {0: 0, 1: 1, 2: 2, 3: 3, 8: 4, 9: 5}
+    GG = np.column_stack([G, Am, Bm])
     cls = np.concatenate([cells.cls[:, :4], ncls.reshape(5, m).T], axis=1)
     dist = None if ndist is None else np.concatenate([cells.dist[:, :4], ndist.reshape(5, m).T], axis=1)
-    kid_G = np.concatenate([np.column_stack([GG[:, list(cols)], TT[:, [tcol[c] for c in cols[:4]]]]) for cols, _ in _CHILDREN])
+    kid_G = np.concatenate([GG[:, list(cols)] for cols, _ in _CHILDREN])
     kid_cls = np.concatenate([np.column_stack([cls[:, list(cor)], np.full(m, -1, np.int8)]) for _, cor in _CHILDREN])
     kid_dist = None if dist is None else np.concatenate(
         [np.column_stack([dist[:, list(cor)], np.full(m, np.inf)]) for _, cor in _CHILDREN])
     patch = np.tile(cells.patch, 4)
     full = np.tile(cells.full, 4)
     w, full, extra = _cell_weights(sample.rg, sample.P, patch, kid_G, full)
-    pc, pxy = _split_pieces(cells.piece_cell, cells.piece_xy, tAm, tBm)
+    pc, pxy = _split_pieces(cells.piece_cell, cells.piece_xy, np.tan(Am), np.tan(Bm))
     kids = _Cells(patch, kid_G, kid_cls, kid_dist, w, full, extra, pc, pxy)
     if not full.all():
         kids = kids.take(w > 0)
