@@ -22,6 +22,11 @@ Speed is measured here, never in a timed test. Sections:
 9. **Dask**: ``en17037 batch --scheduler local`` on the block's first 108 rooms (defaults) with 1
    and 2 local workers (each with cores // workers ray-tracing threads): rooms per second, and a
    check that both give the same summary.
+10. **Targets** (issue 18): every target with the measured figure, the target, met or not, and
+   where it applies the time raw Embree needs for the same rays and the ratio to it: the seed
+   office's whole ``check`` (median of 3), the paper's 2 x 1400-point grid, the 216-room block per
+   room after the fixed start (1 room against 216), a 1,000,000-triangle context loaded and
+   built from binary PLY and from OBJ, and the peak memory of each.
 
 Usage: ``python benchmarks/bench.py [--out bench.json] [--quick] [--only SECTION ...]`` from the
 repository (it needs ``sample_projects/``).
@@ -82,10 +87,25 @@ def throughput(max_rays: int = 3_000_000) -> dict:
             captured.append((np.array(origins, dtype=np.float32), np.array(directions, dtype=np.float32)))
         return original(group, origins, directions)
 
+    import threading
+
+    lock = threading.Lock()
+    original_chunk = getattr(engine, "first_hit_chunk", None)
+
+    def spy_chunk(group, o32, d32):  # the solid-angle samples are traced per chunk on the engine's threads
+        if group == "opaque":
+            with lock:
+                captured.append((np.array(o32, dtype=np.float32), np.array(d32, dtype=np.float32)))
+        return original_chunk(group, o32, d32)
+
     engine.first_hit = spy
+    if original_chunk is not None:
+        engine.first_hit_chunk = spy_chunk
     room, ctx, view = scene.rooms[0], Context(project, scene, engine), CRITERIA["view"]
     view.assess(ctx, room, view.plan(ctx, room))
     engine.first_hit = original
+    if original_chunk is not None:
+        engine.first_hit_chunk = original_chunk
     o = np.concatenate([c[0] for c in captured])[:max_rays]
     d = np.concatenate([c[1] for c in captured])[:max_rays]
     n = len(o)
@@ -162,6 +182,25 @@ def city_project(directory: Path, n_triangles: int) -> Path:
     doc = yaml.safe_load(path.read_text())
     doc["model"]["files"].append({"path": "city.ply", "layer": "landscape", "units": "m", "up_axis": "z"})
     path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
+def city_obj_project(directory: Path, n_triangles: int) -> Path:
+    """:func:`city_project` with the city written as OBJ (one object, triangles, 6 decimals)."""
+    import yaml
+
+    path = city_project(directory, n_triangles)
+    from en17037cli.samples import city_context
+
+    v, f = city_context(n_triangles)
+    with open(directory / "city.obj", "w") as fh:
+        fh.write("o city\n")
+        np.savetxt(fh, v, fmt="v %.6f %.6f %.6f")
+        np.savetxt(fh, f + 1, fmt="f %d %d %d")
+    doc = yaml.safe_load(path.read_text())
+    doc["model"]["files"][-1]["path"] = "city.obj"
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    (directory / "city.ply").unlink()
     return path
 
 
@@ -320,12 +359,53 @@ def dask_scaling(quick: bool) -> list:
     return rows
 
 
+def _target(name: str, measured: float, limit: float, unit: str, raw_s: float | None = None) -> dict:
+    return {"target": name, "measured": measured, "limit": limit, "unit": unit, "met": "met" if measured < limit else "NOT met",
+            "raw_embree_s": raw_s, "ratio_to_raw": None if not raw_s else measured / raw_s}
+
+
+def targets(quick: bool, raw_mrays_s: float) -> list:
+    """The targets of issue 18, measured here: see the module docstring (section 10).
+
+    ``raw_mrays_s``: raw embreex's first-hit rate on this machine's threads [M rays/s] (section 1),
+    from which the time the same rays alone need is estimated.
+    """
+    import statistics
+
+    rows = []
+    seed = [run_check(SAMPLES["seed-office"]) for _ in range(3)]
+    wall = statistics.median(r["wall_s"] for r in seed)
+    rays = seed[0]["rays"]
+    rows.append(_target("seed office check, whole process", wall, 1.0, "s", rays / raw_mrays_s / 1e6))
+    rows.append(_target("seed office check, peak memory", max(r["peak_mb"] for r in seed), 500.0, "MB"))
+    if not quick:
+        paper = run_check(ROOT / "sample_projects/seed-office/project-paper-grid.yaml")
+        rows.append(_target("paper's 2 x 1400-point grid, whole process", paper["wall_s"], 10.0, "s",
+                            paper["rays"] / raw_mrays_s / 1e6))
+        rows.append(_target("paper's grid, peak memory", paper["peak_mb"], 1000.0, "MB"))
+        with tempfile.TemporaryDirectory() as tmp:
+            one = run_check(block_project(Path(tmp), 1))
+            full = run_check(block_project(Path(tmp), 216))
+        per_room = (full["wall_s"] - one["wall_s"]) / 215
+        rows.append(_target("216-room block, per room after the fixed start", per_room, 0.15, "s",
+                            (full["rays"] - one["rays"]) / 215 / raw_mrays_s / 1e6))
+        rows.append(_target("216-room block, peak memory", full["peak_mb"], 500.0, "MB"))
+        for fmt, make, limit in (("binary PLY", city_project, 2.0), ("OBJ", city_obj_project, 3.0)):
+            with tempfile.TemporaryDirectory() as tmp:
+                r = run_check(make(Path(tmp), 1_000_000), ["sunlight.period.end=02-01"], ["--no-plots"])
+            st = r["stages_s"]
+            rows.append(_target(f"1M-triangle context from {fmt}, load + build", st["load"] + st["build"], limit, "s"))
+            rows.append(_target(f"1M-triangle context from {fmt}, peak memory", r["peak_mb"], 500.0, "MB"))
+    return rows
+
+
 #: Short column headings of the printed tables (the JSON keeps the long names).
 LABELS = {"raw_embreex_1_thread_mrays_s": "raw 1 thread", "raw_embreex_mrays_s": "raw", "engine_first_hit_mrays_s": "engine",
           "engine_occluded_mrays_s": "engine occluded", "engine_share_of_raw": "engine / raw", "peak_mb": "peak MB",
           "context_triangles": "triangles", "grid_spacing_m": "grid m", "angular_resolution_deg": "resolution deg",
           "per_room_s": "wall / room", "checks_per_room_s": "view+sun / room", "threads_per_worker": "threads / worker",
-          "startup_s": "cluster start s", "rooms_per_s": "rooms / s", "speed_up": "speed-up"}
+          "startup_s": "cluster start s", "rooms_per_s": "rooms / s", "speed_up": "speed-up", "raw_embree_s": "raw Embree s",
+          "ratio_to_raw": "x raw"}
 
 
 def _table(title: str, rows: list, columns: list) -> None:
@@ -340,7 +420,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building", "dask")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building", "dask", "targets")
 
 
 def main(argv=None) -> int:
@@ -400,6 +480,12 @@ def main(argv=None) -> int:
         result["dask"] = dask_scaling(args.quick)
         _table("Dask: batch --scheduler local on the generated IFC block, defaults [rooms/s]", result["dask"],
                ["workers", "threads_per_worker", "rooms", "startup_s", "wall_s", "rooms_per_s", "speed_up"])
+    if "targets" in args.only:
+        if "throughput" not in result:
+            result["throughput"] = throughput()
+        result["targets"] = targets(args.quick, result["throughput"]["raw_embreex_mrays_s"])
+        _table("Targets of issue 18 (child processes; raw Embree: the same rays through raw embreex on this machine's threads)",
+               result["targets"], ["target", "measured", "limit", "unit", "met", "raw_embree_s", "ratio_to_raw"])
     Path(args.out).write_text(json.dumps(result, indent=2) + "\n")
     print(f"wrote {args.out}")
     return 0

@@ -53,6 +53,103 @@ def default_threads() -> int:
     return int(raw)
 
 
+#: Embree's enums (embree4/rtcore_geometry.h, rtcore_buffer.h, rtcore_common.h).
+_RTC_GEOMETRY_TYPE_TRIANGLE, _RTC_BUFFER_TYPE_INDEX, _RTC_BUFFER_TYPE_VERTEX = 0, 0, 1
+_RTC_FORMAT_UINT3, _RTC_FORMAT_FLOAT3 = 0x5003, 0x9003
+
+_EMBREE: list = []  # [ctypes library or None, offsets of (scene pointer, device object) in an EmbreeScene], found once
+
+
+def _embree_c():
+    """Embree's C library as embreex loaded it (ctypes), and where an ``EmbreeScene`` keeps its
+    ``RTCScene``; None where any check of that layout fails."""
+    if _EMBREE:
+        return _EMBREE[0]
+    _EMBREE.append(None)
+    try:
+        import ctypes
+        import glob
+        import sys
+
+        import embreex
+        from embreex import rtcore as rtc
+        from embreex import rtcore_scene as rtcs
+
+        libs = sorted(glob.glob(os.path.join(os.path.dirname(os.path.dirname(embreex.__file__)), "embreex.libs", "libembree4*.so*")))
+        if len(libs) != 1:
+            return None
+        lib = ctypes.CDLL(libs[0])  # the same copy the extension loaded (same path)
+        vp = ctypes.c_void_p
+        for name, res, args in (("rtcGetSceneDevice", vp, [vp]), ("rtcReleaseDevice", None, [vp]),
+                                ("rtcNewGeometry", vp, [vp, ctypes.c_int]),
+                                ("rtcSetNewGeometryBuffer", vp, [vp, ctypes.c_int, ctypes.c_uint, ctypes.c_int, ctypes.c_size_t,
+                                                                  ctypes.c_size_t]),
+                                ("rtcCommitGeometry", None, [vp]), ("rtcAttachGeometry", ctypes.c_uint, [vp, vp]),
+                                ("rtcReleaseGeometry", None, [vp])):
+            fn = getattr(lib, name)
+            fn.restype, fn.argtypes = res, args
+        # Cython's layout of EmbreeScene (rtcore_scene.pxd): object header, RTCScene scene_i,
+        # int is_committed, EmbreeDevice device; and of EmbreeDevice: header, RTCDevice device.
+        # Every field is checked against what it must hold before the scene pointer is used.
+        head = object.__basicsize__
+        dev = rtc.EmbreeDevice()
+        es = rtcs.EmbreeScene(dev)
+        if sys.getsizeof(es) < head + 24 or sys.getsizeof(dev) < head + 8:
+            return None
+        if vp.from_address(id(es) + head + 16).value != id(dev):
+            return None
+        es.is_committed = 12345
+        ok = ctypes.c_int.from_address(id(es) + head + 8).value == 12345
+        es.is_committed = 0
+        scene = vp.from_address(id(es) + head).value
+        device = vp.from_address(id(dev) + head).value
+        if not ok or not scene or not device:
+            return None
+        got = lib.rtcGetSceneDevice(scene)  # retains the device
+        lib.rtcReleaseDevice(got)
+        if got != device:
+            return None
+        _EMBREE[0] = (lib, head)
+    except Exception:  # any surprise: embreex's own (slower) constructor
+        return None
+    return _EMBREE[0]
+
+
+def add_triangles(es, tri32: np.ndarray) -> bool:
+    """Add triangles ``tri32`` (m, 3, 3) float32 [m] to embreex scene ``es`` as one Embree geometry,
+    filling Embree's vertex and index buffers with numpy (as embreex's ``TriangleMesh`` lays them
+    out, 3 vertices per triangle, so hits and primitive ids are the same); False when Embree's C
+    library cannot be reached (then call ``TriangleMesh``).
+
+    embreex's ``TriangleMesh`` copies every coordinate through a Python-level index of an untyped
+    array (about 1.2 s per million triangles); this is a copy of a contiguous block.
+    """
+    found = _embree_c()
+    if found is None:
+        return False
+    import ctypes
+
+    lib, head = found
+    m = len(tri32)
+    scene = ctypes.c_void_p.from_address(id(es) + head).value
+    device = lib.rtcGetSceneDevice(scene)
+    lib.rtcReleaseDevice(device)  # the scene holds it
+    geom = lib.rtcNewGeometry(device, _RTC_GEOMETRY_TYPE_TRIANGLE)
+    pv = lib.rtcSetNewGeometryBuffer(geom, _RTC_BUFFER_TYPE_VERTEX, 0, _RTC_FORMAT_FLOAT3, 16, 3 * m)
+    pi = lib.rtcSetNewGeometryBuffer(geom, _RTC_BUFFER_TYPE_INDEX, 0, _RTC_FORMAT_UINT3, 12, m)
+    if not pv or not pi:
+        lib.rtcReleaseGeometry(geom)
+        return False
+    vbuf = np.ctypeslib.as_array((ctypes.c_float * (12 * m)).from_address(pv)).reshape(3 * m, 4)
+    vbuf[:, :3] = tri32.reshape(3 * m, 3)
+    vbuf[:, 3] = 0.0
+    np.ctypeslib.as_array((ctypes.c_uint32 * (3 * m)).from_address(pi))[:] = np.arange(3 * m, dtype=np.uint32)
+    lib.rtcCommitGeometry(geom)
+    lib.rtcAttachGeometry(scene, geom)
+    lib.rtcReleaseGeometry(geom)
+    return True
+
+
 class RayEngine:
     """First-hit and occlusion queries against named groups of faces.
 
@@ -124,7 +221,9 @@ class RayEngine:
                 self._groups[name] = (None, faces)
             else:
                 es = rtcs.EmbreeScene()
-                TriangleMesh(es, self.vertices[self.triangles[faces]].astype(np.float32))
+                tri32 = self.vertices[self.triangles[faces]].astype(np.float32)
+                if not add_triangles(es, tri32):
+                    TriangleMesh(es, tri32)
                 es.run(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))  # commit (builds the BVH) now
                 self._groups[name] = (es, faces)
         return self._groups[name]
@@ -149,6 +248,32 @@ class RayEngine:
         if self._pool is None or len(bounds) == 1:
             return [fn(a, b) for a, b in bounds]
         return list(self._pool.map(lambda ab: fn(*ab), bounds))
+
+    def map_chunks(self, fn: Callable[[int, int], object], n: int) -> list:
+        """``fn(a, b)`` over the chunks [a, b) of ``n`` rays on the engine's threads (results in order).
+
+        For callers that compute their rays and use the hits per chunk: the maths beside the
+        queries (numpy, which releases the GIL on large arrays) then runs on every core too.
+        Queries inside ``fn`` go through :meth:`first_hit_chunk` and are counted by the caller
+        (:meth:`count_rays`).
+        """
+        return self._map(fn, n)
+
+    def first_hit_chunk(self, group: str, o32: np.ndarray, d32: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`first_hit` of one chunk in the calling thread: contiguous float32 (k, 3) rays,
+        at most :data:`CHUNK`; not counted in :attr:`rays_traced`."""
+        k = len(o32)
+        es, faces = self._group(group)
+        if es is None or k == 0:
+            return np.full(k, -1, dtype=np.int64), np.full(k, np.inf)
+        r = es.run(o32, d32, output=1)
+        prim = r["primID"]
+        hit = prim >= 0
+        return np.where(hit, faces[np.maximum(prim, 0)], -1), np.where(hit, r["tfar"].astype(np.float64), np.inf)
+
+    def count_rays(self, n: int) -> None:
+        """Add ``n`` rays traced through :meth:`first_hit_chunk` to :attr:`rays_traced`."""
+        self.rays_traced += n
 
     def first_hit(self, group: str, origins, directions) -> tuple[np.ndarray, np.ndarray]:
         """Nearest hit of each ray with the faces of ``group``.

@@ -1,4 +1,4 @@
-"""glTF/GLB, PLY, STL and OFF through trimesh; node and geometry names become part attributes."""
+"""glTF/GLB and OFF through trimesh (and the PLY and STL files their own readers pass on); node and geometry names become part attributes."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -10,7 +10,7 @@ from en17037cli.io import ReadOptions, register
 from en17037cli.io.mesh import Mesh, Part
 
 
-@register(".glb", ".gltf", ".ply", ".off")
+@register(".glb", ".gltf", ".off")
 def read_with_trimesh(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read glTF/GLB, PLY, STL or OFF through trimesh; node and geometry names become face names."""
     import trimesh

@@ -47,10 +47,10 @@ class Sampler:
         cls : (m,) int8; dist : (m,) float [m] (+inf unless landscape), or None without distances
         """
         P, rg = self.P, self.rg
-        X, Y = np.tan(A), np.tan(B)
-        w = P.win[patch]
         idx = None
         if not self.rect.all():
+            X, Y = np.tan(A), np.tan(B)
+            w = P.win[patch]
             inside = self.rect[w].copy()
             for f in rg.frames:  # outline test for windows that are not rectangles
                 sel = np.flatnonzero((w == f.index) & ~f.is_rectangle)
@@ -58,32 +58,46 @@ class Sampler:
                     ps = patch[sel]
                     inside[sel] = f.on_glazing(P.x0[ps] + P.d[ps] * X[sel], P.y0[ps] + P.d[ps] * Y[sel])
             idx = np.flatnonzero(inside)
-            patch, X, Y, w = patch[idx], X[idx], Y[idx], w[idx]
-        secant = np.sqrt(1.0 + X * X + Y * Y)
-        inv = 1.0 / secant
-        dirs = np.empty((len(X), 3), dtype=np.float32)  # Embree's precision, built column by column
+            patch, A, B = patch[idx], A[idx], B[idx]
+        n = len(patch)
+        c = np.empty(n, dtype=np.int8)
+        dist = np.empty(n) if self.with_distance else None
+        engine, vr = self.view_rays.engine, self.view_rays
         one = len(rg.frames) == 1
-        for k in range(3):  # the three coordinates
-            u, v, n = (a[0, k] if one else a[w, k] for a in (self.U, self.V, self.N))
-            dirs[:, k] = (X * u + Y * v + n) * inv
-        t_w = P.d[patch] * secant  # distance to the glazing plane [m]
-        origins = self.points32[P.pt[patch]]
-        f_o, t_o = self.view_rays.engine.first_hit("opaque", origins, dirs)
-        c = self.view_rays.outside_class(f_o, dirs)
-        c[t_o <= t_w] = BLOCKED
-        if len(rg.frames) > 1:  # a direction counts once, through the nearest window of the room
-            f_g, t_g = self.view_rays.engine.first_hit(rg.group, origins, dirs)
-            nearer = (f_g >= 0) & (rg.window_of_face[np.maximum(f_g, 0)] != w) & (t_g < t_w * (1 - 1e-6))
-            c[nearer] = BLOCKED
-        dist = None
-        if self.with_distance:
-            dist = np.where(c == LANDSCAPE_HIT, (t_o - t_w) / secant, np.inf)
+
+        def chunk(a: int, b: int) -> None:  # the rays of [a, b): directions, queries, classes, in one thread
+            pa = patch[a:b]
+            X, Y = np.tan(A[a:b]), np.tan(B[a:b])
+            w = P.win[pa]
+            secant = np.sqrt(1.0 + X * X + Y * Y)
+            inv = 1.0 / secant
+            dirs = np.empty((b - a, 3), dtype=np.float32)  # Embree's precision, built column by column
+            for k in range(3):  # the three coordinates
+                u, v, nn = (q[0, k] if one else q[w, k] for q in (self.U, self.V, self.N))
+                dirs[:, k] = (X * u + Y * v + nn) * inv
+            t_w = P.d[pa] * secant  # distance to the glazing plane [m]
+            origins = self.points32[P.pt[pa]]
+            f_o, t_o = engine.first_hit_chunk("opaque", origins, dirs)
+            cc = vr.outside_class(f_o, dirs)
+            cc[t_o <= t_w] = BLOCKED
+            if not one:  # a direction counts once, through the nearest window of the room
+                f_g, t_g = engine.first_hit_chunk(rg.group, origins, dirs)
+                nearer = (f_g >= 0) & (rg.window_of_face[np.maximum(f_g, 0)] != w) & (t_g < t_w * (1 - 1e-6))
+                cc[nearer] = BLOCKED
+            c[a:b] = cc
+            if dist is not None:
+                dist[a:b] = np.where(cc == LANDSCAPE_HIT, (t_o - t_w) / secant, np.inf)
+
+        groups = ["opaque"] if one else ["opaque", rg.group]
+        engine.prepare(groups)  # built here, not by two threads at once
+        engine.map_chunks(chunk, n)
+        engine.count_rays(n * sum(engine.embree_scene(g)[0] is not None for g in groups))
         if idx is not None:
-            full_c = np.full(len(A), -1, dtype=np.int8)
+            full_c = np.full(len(inside), -1, dtype=np.int8)
             full_c[idx] = c
             c = full_c
             if dist is not None:
-                full_d = np.full(len(A), np.inf)
+                full_d = np.full(len(inside), np.inf)
                 full_d[idx] = dist
                 dist = full_d
         return c, dist
