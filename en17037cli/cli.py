@@ -215,13 +215,15 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
 
 
 def _painters():
-    """A worker process that loads matplotlib while the run traces rays and then draws the pictures
-    (:class:`~en17037cli.report.figures.Painters`); None where processes cannot be forked (the
-    pictures are then drawn in this process)."""
+    """Worker processes (up to one per core, at most 4; more than one only for many pictures) that
+    load matplotlib while the run traces rays and then draw the pictures (:class:`~en17037cli.report.figures.Painters`); None where processes
+    cannot be forked (the pictures are then drawn in this process)."""
+    import os
+
     from en17037cli.report.figures import Painters
 
     try:
-        return Painters()
+        return Painters(max(1, min(4, os.cpu_count() or 1)))
     except (OSError, ValueError, ImportError):
         return None
 

@@ -151,47 +151,70 @@ def render_figures(result: RunResult, pool=None) -> list[Figure]:
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
-class Painters:
-    """A worker process, forked before the run, that imports matplotlib and loads its font while the
-    run traces rays in the parent, then draws the pictures it is sent. The figures come back in the
-    jobs' order, byte-identical to drawing them in the parent. The worker ignores Ctrl-C and is
-    ended by :meth:`close`, so an interrupted run leaves nothing behind."""
+#: Jobs per extra drawing process: a run with more pictures than this forks more workers once
+#: its rays are traced (each new worker first imports matplotlib, about 0.3 s).
+JOBS_PER_EXTRA_WORKER = 16
 
-    def __init__(self):
-        import multiprocessing
+
+class Painters:
+    """Worker processes that draw the pictures. One is forked before the run and imports matplotlib
+    and loads its font while the run traces rays in the parent; a run with many pictures (a
+    building) forks up to ``workers - 1`` more when they are sent (forking them earlier would slow
+    the tracing they share the cores with). The jobs are dealt out in turn; the figures come back
+    in the jobs' order, byte-identical to drawing them in the parent. The workers ignore Ctrl-C and
+    are ended by :meth:`close`, so an interrupted run leaves nothing behind."""
+
+    def __init__(self, workers: int = 1):
         import os
 
-        ctx = multiprocessing.get_context("fork")
         self._pid = os.getpid()
-        self._conn, child = ctx.Pipe()
-        self._proc = ctx.Process(target=_paint, args=(child,), name="en17037-pictures", daemon=True)
+        self._max = max(1, workers)
+        self._workers: list = []
+        self._start()
+
+    def _start(self) -> None:
+        import multiprocessing
+
+        ctx = multiprocessing.get_context("fork")
+        conn, child = ctx.Pipe()
+        proc = ctx.Process(target=_paint, args=(child,), name="en17037-pictures", daemon=True)
+        self._workers.append((conn, proc))
         # The child is forked with SIGINT and SIGTERM blocked and unblocks them once its own handlers
         # are set: a signal arriving in between must not run the parent's handler in the child.
         old = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS)
         try:
-            self._proc.start()
+            proc.start()
         finally:
             signal.pthread_sigmask(signal.SIG_SETMASK, old)
         child.close()
 
     def draw(self, jobs: list[Job]) -> list[Figure]:
-        self._conn.send(jobs)
-        out = self._conn.recv()
-        if isinstance(out, BaseException):
-            raise out
+        while len(self._workers) < min(self._max, 1 + len(jobs) // JOBS_PER_EXTRA_WORKER):
+            self._start()
+        n = len(self._workers)
+        for k, (conn, _) in enumerate(self._workers):
+            conn.send(jobs[k::n])
+        out: list = [None] * len(jobs)
+        for k, (conn, _) in enumerate(self._workers):
+            got = conn.recv()
+            if isinstance(got, BaseException):
+                raise got
+            out[k::n] = got
         return out
 
     def close(self) -> None:
         import contextlib
         import os
 
-        if os.getpid() != self._pid:  # a forked copy of the process that started the worker
+        if os.getpid() != self._pid:  # a forked copy of the process that started the workers
             return
-        with contextlib.suppress(OSError):
-            self._conn.close()
-        if self._proc.is_alive():
-            self._proc.terminate()
-        self._proc.join(timeout=5)
+        for conn, proc in self._workers:
+            with contextlib.suppress(OSError):
+                conn.close()
+            if proc.is_alive():
+                proc.terminate()
+        for _, proc in self._workers:
+            proc.join(timeout=5)
 
 
 def _paint(conn) -> None:

@@ -546,3 +546,26 @@ def test_plan_map_of_no_or_one_viewpoint(n):
     png = P.plan_map(POINTS[:n], np.full(n, 30.0), kind="sight_angle", thresholds=THRESH_ANGLE, floor=FLOOR, utilised=UTILISED,
                      windows=WINDOWS, true_north_deg=0.0)
     assert decode(png).shape == (400, 500, 3)
+
+
+def test_painters_deal_jobs_to_several_workers_and_keep_their_order(tmp_path):
+    """Many pictures fork extra drawing processes; every figure comes back in the jobs' order and
+    byte-identical to drawing it here (what a building's report relies on)."""
+    from en17037cli.pipeline import run
+    from en17037cli.project import load_project
+    from en17037cli.report.figures import JOBS_PER_EXTRA_WORKER, Painters, draw, figure_jobs
+    from en17037cli.samples import BoxRoom, box_room_project
+
+    path = box_room_project(tmp_path / "p", BoxRoom(), sunlight={"date": "worst"}, view={"grid_spacing_m": 1.0})
+    jobs = figure_jobs(run(load_project(path, []), pictures=True))
+    assert len(jobs) >= 3
+    many = (jobs * (2 * JOBS_PER_EXTRA_WORKER // len(jobs) + 1))[: 2 * JOBS_PER_EXTRA_WORKER + 1]
+    here = [draw(j) for j in many]
+    pool = Painters(3)
+    try:
+        got = pool.draw(many)
+        assert len(pool._workers) == 3  # 1 + (33 // 16) = 3 workers, capped at 3
+    finally:
+        pool.close()
+    assert [f.name for f in got] == [j.name for j in many]
+    assert all(a == b for a, b in zip(got, here, strict=True))
