@@ -57,3 +57,15 @@ def test_empty_row_and_infinite_neighbour():
     # row 0 sorted 1, 3, inf with weights 1, 2, 1: half of 4 reached at 3; gaps 2 and inf -> 2
     assert value[0] == 3.0 and gap[0] == 2.0
     assert np.isnan(value[1]) and np.isnan(gap[1])
+
+
+def test_gap_per_row_with_an_infinite_or_missing_neighbour():
+    values = np.array([[1.0, 1.5, np.inf, np.nan], [1.0, 3.0, np.nan, np.nan], [1.0, 2.0, 3.0, 4.0]])
+    weights = np.array([[1.0, 2.0, 1.0, 0.0], [1.0, 1.0, 0.0, 0.0], [1.0, 1.0, 1.0, 1.0]])
+    value, gap = weighted_statistic(values, weights, "p90")
+    # row 0: 90 % of 4 = 3.6 reached at +inf; row 1: 1.8 of 2 at 3 (gap 2 to 1, no next value);
+    # row 2: 3.6 of 4 at 4 (gap 1 to 3)
+    assert value.tolist() == [np.inf, 3.0, 4.0] and gap[1] == 2.0 and gap[2] == 1.0
+    value, gap = weighted_statistic(values[:1], weights[:1], "median")
+    # half of 4 reached at 1.5: lower neighbour 0.5 below, upper +inf (not a finite gap): 0.5
+    assert value[0] == 1.5 and gap[0] == 0.5
