@@ -12,7 +12,7 @@ from html import escape
 
 from en17037cli.report.labels import STATUS_LABEL, assessed
 from en17037cli.report.markdown import dwellings_markdown, parameter_lines, share_table, verdict_rows, window_rows
-from en17037cli.report.numbers import fmt_duration
+from en17037cli.report.numbers import fmt_bound, fmt_duration
 from en17037cli.report.verdicts import limit_text
 
 #: Per-point rows shown per room and eye height in the appendix; the rest are in view_points.csv.
@@ -88,8 +88,8 @@ def _room(room: dict, figures) -> list[str]:
         ee = v["error_estimates"]
         H += [f"<h3>View out: {escape(v['level'])} {_status(STATUS_LABEL[v['status']])}</h3>",
               f"<p>Required: {escape(v['required'])}. What limits it: {escape(limit_text('view', v))}.</p>",
-              f'<p class="small">Error estimates: solid angles ≤ {ee["max_solid_angle_error_sr"]} sr, sight angle ≤ '
-              f'{ee["max_horizontal_sight_angle_error_deg"]}°, outside distance ≤ {ee["max_outside_distance_error_m"]} m. '
+              f'<p class="small">Error estimates: solid angles {fmt_bound(ee["max_solid_angle_error_sr"])} sr, sight angle '
+              f'{fmt_bound(ee["max_horizontal_sight_angle_error_deg"])}°, outside distance {fmt_bound(ee["max_outside_distance_error_m"])} m. '
               "Points ringed on the maps lie within their error estimate of a threshold.</p>"]
         for e in v["eye_heights"]:
             H += [f"<h3>Eye height {e['eye_height_m']} m: {len(e['points'])} points, level {escape(e['level'])}</h3>",

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from en17037cli.report.labels import STATUS_LABEL, assessed, unassessed
-from en17037cli.report.numbers import fmt_duration
+from en17037cli.report.numbers import fmt_bound, fmt_duration
 from en17037cli.report.verdicts import limit_text
 from en17037cli.standard import LEVELS
 
@@ -144,8 +144,9 @@ def report_markdown(report: dict, figures=()) -> str:
             ee = v["error_estimates"]
             L += [f"**View out: {v['level']}** (required {v['required']}, {STATUS_LABEL[v['status']]}); "
                   f"{limit_text('view', v)}.", "",
-                  f"Error estimates: solid angles ≤ {ee['max_solid_angle_error_sr']} sr, sight angle ≤ "
-                  f"{ee['max_horizontal_sight_angle_error_deg']} deg, outside distance ≤ {ee['max_outside_distance_error_m']} m."]
+                  f"Error estimates: solid angles {fmt_bound(ee['max_solid_angle_error_sr'])} sr, sight angle "
+                  f"{fmt_bound(ee['max_horizontal_sight_angle_error_deg'])} deg, outside distance "
+                  f"{fmt_bound(ee['max_outside_distance_error_m'])} m."]
             for e in v["eye_heights"]:
                 L += ["", f"### Eye height {e['eye_height_m']} m: {len(e['points'])} points, level {e['level']}", ""]
                 L += _md_table(share_table(e))

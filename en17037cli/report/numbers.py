@@ -82,3 +82,13 @@ def json_scores(score: float, parts=()) -> dict:
                                 "margin_up": json_number(p.margin_up, 4), "margin_down": json_number(p.margin_down, 4)}
                                for p in parts]
     return out
+
+
+def fmt_bound(x, nd: int = 6) -> str:
+    """An error bound as the reports print it: ``"≤ 0.0054"``; a bound the JSON rounded to 0 at
+    ``nd`` decimals is ``"< 5e-07"`` (half the last decimal), since 0 would read as "no error"."""
+    if x is None:
+        return "n/a"
+    if float(x) == 0.0:
+        return f"< {0.5 * 10.0 ** -nd:g}"
+    return f"≤ {x}"

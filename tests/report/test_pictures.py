@@ -569,3 +569,14 @@ def test_painters_deal_jobs_to_several_workers_and_keep_their_order(tmp_path):
         pool.close()
     assert [f.name for f in got] == [j.name for j in many]
     assert all(a == b for a, b in zip(got, here, strict=True))
+
+
+def test_an_error_bound_rounded_to_zero_is_not_printed_as_zero():
+    """The plan sight angle's bound (about 1e-11 deg) rounds to 0 at the JSON's 6 decimals: the
+    reports print it as under half the last decimal, not as 'no error'."""
+    from en17037cli.report.numbers import fmt_bound
+
+    assert fmt_bound(0.0) == "< 5e-07"
+    assert fmt_bound(0.005467) == "≤ 0.005467"
+    assert fmt_bound(0.0, nd=4) == "< 5e-05"
+    assert fmt_bound(None) == "n/a"
