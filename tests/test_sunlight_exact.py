@@ -223,3 +223,38 @@ def test_reveals_and_mullions_agree_with_fine_sampling(build):
     fine = build(box, sub="fine", sunlight=sun | {"method": "sampled", "timestep_min": 0.25}, view=None).sunlight()
     assert np.all(np.abs(exact_run.hours - fine.hours) * 3600 <= DAY_S), (exact_run.hours - fine.hours) * 3600
     assert max(len(iv) for iv in exact_run.intervals) >= 2  # the mullions do cut the day's sun
+
+
+def _merge_by_hand(intervals):
+    """Union of closed intervals, merged one by one (the test's own reference)."""
+    out: list[list[float]] = []
+    for s, e in sorted(map(tuple, intervals)):
+        if out and s <= out[-1][1]:
+            out[-1][1] = max(out[-1][1], e)
+        else:
+            out.append([s, e])
+    return np.array(out, dtype=float).reshape(-1, 2)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_union_over_points_merges_each_day_like_a_hand_merge(seed):
+    """Random overlapping, nested, touching and empty interval lists of 3 points over 4 days;
+    an interval ending at midnight does not merge with the next day's interval starting then."""
+    rng = np.random.default_rng(seed)
+    nd, day_s = 4, 86400.0
+    per_point = []
+    for _ in range(3):
+        days = []
+        for k in range(nd):
+            n = int(rng.integers(0, 5))
+            s = k * day_s + np.sort(rng.choice([0.0, 100.0, 200.0, 300.0, 86300.0], n) + rng.integers(0, 3, n) * 50.0)
+            e = np.minimum(s + rng.choice([0.0, 50.0, 150.0, 400.0], n), (k + 1) * day_s)
+            days.append(np.column_stack([s, e]))
+        per_point.append(days)
+    per_point[0][0] = np.array([[86000.0, day_s]])  # ends at midnight
+    per_point[1][1] = np.array([[day_s, day_s + 10.0]])  # the next day starts then
+    got, err = exact.union_intervals(per_point, [np.ones(nd), 2 * np.ones(nd)], nd)
+    assert len(got) == nd and err.tolist() == [3.0] * nd
+    for k in range(nd):
+        want = _merge_by_hand(np.concatenate([p[k] for p in per_point]))
+        np.testing.assert_array_equal(got[k], want)

@@ -498,16 +498,23 @@ def _merge(t_c, err_c, d_c, i0, seen, nd):
 
 def union_intervals(per_point: list, errors: list, nd: int):
     """The union over points P of each day's intervals (the room sees the sun when any P does), and
-    the sum of the points' error bounds."""
-    intervals = []
-    for k in range(nd):  # per day: sort and merge the points' few intervals
-        iv = np.concatenate([x[k] for x in per_point]) if per_point else np.zeros((0, 2))
-        iv = iv[np.argsort(iv[:, 0])] if len(iv) else iv.reshape(0, 2)
-        out: list[list[float]] = []
-        for s, e in iv:
-            if out and s <= out[-1][1]:
-                out[-1][1] = max(out[-1][1], e)
-            else:
-                out.append([s, e])
-        intervals.append(np.array(out, dtype=float).reshape(-1, 2))
+    the sum of the points' error bounds. ``per_point``: per point, per day, (n, 2) unix times [s]."""
+    iv = np.concatenate([x[k] for x in per_point for k in range(nd)]) if per_point else np.zeros((0, 2))
+    day = np.concatenate([np.full(len(x[k]), k) for x in per_point for k in range(nd)]) if per_point else np.zeros(0, int)
+    iv = iv.reshape(-1, 2)
+    order = np.lexsort((iv[:, 0], day))  # by day, then start
+    iv, day = iv[order], day[order]
+    # an interval starts a new merged one where its day changes or it begins after every earlier
+    # interval of its day has ended (running maximum of the ends; the days' times are disjoint)
+    reach = np.maximum.accumulate(iv[:, 1]) if len(iv) else iv[:, 1]
+    new = np.ones(len(iv), bool)
+    new[1:] = (day[1:] != day[:-1]) | (iv[1:, 0] > reach[:-1])
+    group = np.cumsum(new) - 1
+    starts = iv[new, 0]
+    ends = np.full(len(starts), -np.inf)
+    np.maximum.at(ends, group, iv[:, 1])
+    gday = day[new]
+    bounds = np.searchsorted(gday, np.arange(nd + 1))
+    merged = np.column_stack([starts, ends])
+    intervals = [merged[bounds[k]:bounds[k + 1]] for k in range(nd)]  # one view per day (report data)
     return intervals, np.sum(errors, axis=0) if errors else np.zeros(nd)
