@@ -34,8 +34,6 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-import yaml
-
 from en17037cli.errors import InputError, internal_message
 from en17037cli.pipeline import RoomAssessment, Session, Timer
 from en17037cli.preflight import MAX_POINTS
@@ -77,7 +75,7 @@ def load_variants(path: Path) -> list[Variant]:
 
     Raises :class:`InputError` naming the file, the item and what to do.
     """
-    from en17037cli.project.yaml12 import parse_yaml
+    from en17037cli.project.yaml12 import parse_yaml_or_fail
 
     where = f"--variants {path}"
     try:
@@ -90,11 +88,7 @@ def load_variants(path: Path) -> list[Variant]:
         raise InputError(f"{where}: not UTF-8 text (byte {exc.start}); save it as UTF-8") from None
     except OSError as exc:
         raise InputError(f"{where}: cannot read it ({exc.strerror})") from None
-    try:
-        doc = parse_yaml(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        raise InputError(f"{where}{f':{mark.line + 1}' if mark else ''}: not valid YAML: {getattr(exc, 'problem', exc)}") from None
+    doc = parse_yaml_or_fail(text, where)
     if not isinstance(doc, list) or not doc:
         raise InputError(f"{where}: expected a YAML list of variants, e.g. '- {{name: wide, set: {{view.grid_spacing_m: 1}}}}'")
     out, seen = [], set()

@@ -66,13 +66,7 @@ def triangulate_polygons(polygons: np.ndarray) -> list:
     n = np.stack([np.sum((p[..., 1] - q[..., 1]) * (p[..., 2] + q[..., 2]), axis=1),
                   np.sum((p[..., 2] - q[..., 2]) * (p[..., 0] + q[..., 0]), axis=1),
                   np.sum((p[..., 0] - q[..., 0]) * (p[..., 1] + q[..., 1]), axis=1)], axis=1)
-    norm = np.linalg.norm(n, axis=1)
-    good = np.isfinite(norm) & (norm > 0)
-    n = np.where(good[:, None], n / np.where(good, norm, 1.0)[:, None], [0.0, 0.0, 1.0])
-    helper = np.where((np.abs(n[:, 2]) < 0.9)[:, None], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
-    u = np.cross(helper, n)
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    v = np.cross(n, u)
+    n, u, v, good = plane_bases(n)
     centred = p - p.mean(axis=1, keepdims=True)
     flat = np.stack([np.einsum("nkj,nj->nk", centred, u), np.einsum("nkj,nj->nk", centred, v)], axis=-1)
     ring = np.array([p.shape[1]], dtype=np.uint32)
@@ -111,3 +105,16 @@ def window_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     a /= np.linalg.norm(a)
     up = np.cross(normal, a)
     return a, up / np.linalg.norm(up)
+
+
+def plane_bases(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Orthonormal bases of planes from (unnormalised) normals (m, 3): the unit normal ``n`` (+z
+    where a normal is zero or not finite), two unit in-plane axes ``u``, ``v`` with ``u x v = n``
+    (dimensionless), and ``good`` (m,) bool: the normal was finite and non-zero."""
+    norm = np.linalg.norm(normals, axis=1)
+    good = np.isfinite(norm) & (norm > 0)
+    n = np.where(good[:, None], normals / np.where(good, norm, 1.0)[:, None], [0.0, 0.0, 1.0])
+    helper = np.where((np.abs(n[:, 2]) < 0.9)[:, None], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+    u = np.cross(helper, n)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    return n, u, np.cross(n, u), good

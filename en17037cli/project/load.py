@@ -16,7 +16,6 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from en17037cli.errors import InputError
 from en17037cli.project.overrides import apply_overrides
@@ -31,7 +30,7 @@ from en17037cli.project.settings import (
     sun_settings,
     view_settings,
 )
-from en17037cli.project.yaml12 import parse_yaml
+from en17037cli.project.yaml12 import parse_yaml_or_fail
 from en17037cli.schemas import load_schema
 from en17037cli.standard import PRACTICES, THRESHOLDS, Thresholds
 
@@ -90,12 +89,7 @@ def read_document(path: Path) -> dict:
         raise InputError(f"{path}: not UTF-8 text (byte {exc.start}); save the project file as UTF-8") from None
     except OSError as exc:
         raise InputError(f"{path}: cannot read project file: {exc.strerror}") from None
-    try:
-        document = parse_yaml(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f":{mark.line + 1}" if mark else ""
-        raise InputError(f"{path}{where}: not valid YAML: {getattr(exc, 'problem', exc)}") from None
+    document = parse_yaml_or_fail(text, str(path))
     if not isinstance(document, dict):
         raise InputError(f"{path}: expected a mapping of keys (version, model, rooms, ...) at the top level")
     if expanded_size(document) > MAX_DOCUMENT_VALUES:

@@ -29,3 +29,15 @@ YamlLoader.add_implicit_resolver(
 def parse_yaml(text: str):
     """Parse YAML text with :class:`YamlLoader`."""
     return yaml.load(text, Loader=YamlLoader)  # noqa: S506 - a SafeLoader subclass
+
+
+def parse_yaml_or_fail(text: str, where: str):
+    """:func:`parse_yaml`, a syntax error raised as an InputError naming ``where`` (the file) and
+    the line: ``"variants.yaml:3: not valid YAML: ..."``."""
+    from en17037cli.errors import InputError
+
+    try:
+        return parse_yaml(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        raise InputError(f"{where}{f':{mark.line + 1}' if mark else ''}: not valid YAML: {getattr(exc, 'problem', exc)}") from None

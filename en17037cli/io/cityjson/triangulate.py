@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from en17037cli.geometry import triangulate_polygons
+from en17037cli.geometry.triangles import plane_bases
 
 
 def triangulate_surfaces(vertices, gidx, ring_len, s_nrings, surf_keep):
@@ -124,14 +125,7 @@ def _triangulate_with_holes(vertices, gidx, ring_start, ring_len, first_ring, s_
     newell = np.add.reduceat(np.cross(c, c[nxt]), off, axis=0)  # (rings, 3): twice the area vector
     ring_area = 0.5 * np.linalg.norm(newell, axis=1)
     outer = np.flatnonzero(is_outer)
-    n = newell[outer]
-    norm = np.linalg.norm(n, axis=1)
-    good = np.isfinite(norm) & (norm > 0)
-    n = np.where(good[:, None], n / np.where(good, norm, 1.0)[:, None], [0.0, 0.0, 1.0])
-    helper = np.where((np.abs(n[:, 2]) < 0.9)[:, None], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
-    u = np.cross(helper, n)
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    v = np.cross(n, u)
+    n, u, v, good = plane_bases(newell[outer])
     vert_surf = ring_surf[vert_ring]
     d = pts - centre[outer][vert_surf]
     flat = np.stack([np.einsum("ij,ij->i", d, u[vert_surf]), np.einsum("ij,ij->i", d, v[vert_surf])], axis=1)
