@@ -19,7 +19,7 @@ other piece is split until it is narrower than the tolerance and then both its e
 Between two consecutive candidate times of a day visibility is constant, so one ray at the
 midpoint decides it (the engine's own sun rays, :class:`~.visibility.SunVisibility`).
 
-Faces are culled first (:func:`cull_triangles`): only those whose image from P reaches the band of
+Faces are culled first (:func:`~.culling.cull_triangles`): only those whose image from P reaches the band of
 sun directions of the period (declinations, minimum altitude), lies in front of the window's plane
 and inside the pyramid from P over one of the room's windows can lie between P and the sun; each
 test is a bound on the face's spherical triangle, so no face that can occlude is dropped.
@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from en17037cli.criteria.sunlight.culling import ANGLE_SLACK, cull_triangles, spherical_extent, triangle_edges, window_pyramid
 from en17037cli.criteria.sunlight.solar_position import direction_vectors
-from en17037cli.geometry import window_axes
 
 #: Spacing of the SPA knots of the sun's path [s]: the Hermite interpolant's error is about
 #: (omega h)^4 / 384 = 1e-8 rad at 600 s (omega = 7.3e-5 rad/s), 1e-4 s of the sun's motion.
@@ -39,8 +39,6 @@ SPLIT = 8
 #: Sun's angular speed about the pole [rad/s] times 1.5: bounds d2(elevation)/dt2 and the sun's
 #: movement during a bracket (apparent solar rate 7.27e-5 rad/s; refraction adds well under 50 %).
 OMEGA_BOUND = 1.5 * 2 * np.pi / 86164.0
-#: Angular slack [rad] of the culling tests and of the arc test (float round-off, interpolant error).
-ANGLE_SLACK = 1e-6
 
 
 class SunSpline:
@@ -147,120 +145,6 @@ def root_brackets(values, curvature, key: np.ndarray, a: np.ndarray, b: np.ndarr
         blo, bhi = np.where(same, mid, blo), np.where(same, bhi, mid)
     rlo[s], rhi[s] = blo, bhi
     return rk, rlo, rhi, rs
-
-
-def spherical_extent(u: np.ndarray, axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Smallest and largest ``axis . x`` over the spherical triangles with corners ``u`` (T, 3, 3)
-    (directions from P, not necessarily unit), ``axis`` (3,) unit.
-
-    The extremes lie at a corner, at the extreme point of an edge's great circle where it falls
-    inside the arc, or at +-axis itself where it lies inside the triangle.
-    """
-    uu = u / np.maximum(np.linalg.norm(u, axis=2, keepdims=True), 1e-300)
-    vals = uu @ axis  # (T, 3)
-    lo, hi = vals.min(axis=1), vals.max(axis=1)
-    inside = []
-    for i in range(3):  # the three edges of each triangle
-        p, q = uu[:, i], uu[:, (i + 1) % 3]
-        m = np.cross(p, q)
-        mn = np.linalg.norm(m, axis=1)
-        ok = mn > 1e-12
-        mh = m / np.maximum(mn, 1e-300)[:, None]
-        x = axis[None, :] - (mh @ axis)[:, None] * mh
-        xn = np.linalg.norm(x, axis=1)
-        x = x / np.maximum(xn, 1e-300)[:, None]
-        for sign in (1.0, -1.0):
-            xs = sign * x
-            on = ok & (xn > 1e-12) & (np.einsum("ij,ij->i", np.cross(p, xs), m) >= 0) & (np.einsum("ij,ij->i", np.cross(xs, q), m) >= 0)
-            v = sign * xn
-            hi = np.where(on & (v > hi), v, hi)
-            lo = np.where(on & (v < lo), v, lo)
-        inside.append(np.einsum("ij,j->i", m, axis))
-    side = np.stack(inside, axis=1)
-    contains = np.all(side >= 0, axis=1) | np.all(side <= 0, axis=1)  # +axis or -axis inside the triangle
-    plus = contains & (np.einsum("tij,j->t", uu, axis) > 0)
-    hi = np.where(contains & plus, 1.0, hi)
-    lo = np.where(contains & ~plus, -1.0, lo)
-    return lo, hi
-
-
-def window_pyramid(p: np.ndarray, windows) -> np.ndarray:
-    """Inward normals (w, 4, 3) of the four side planes of the pyramid from ``p`` over each window's
-    bounding rectangle in its own plane (the rays that can reach the window lie inside)."""
-    out = []
-    for w in windows:  # the room's few windows
-        a, up = window_axes(w.normal)
-        v = w.triangles.reshape(-1, 3)
-        sa, su = v @ a, v @ up
-        c = w.centroid
-        base = c - (c @ a) * a - (c @ up) * up
-        corners = [base + x * a + y * up for x, y in ((sa.min(), su.min()), (sa.max(), su.min()),
-                                                       (sa.max(), su.max()), (sa.min(), su.max()))]
-        g = np.array([np.cross(corners[i] - p, corners[(i + 1) % 4] - p) for i in range(4)])
-        g *= np.sign(g @ (c - p))[:, None]
-        out.append(g)
-    return np.array(out).reshape(-1, 4, 3)
-
-
-def cull_triangles(vertices: np.ndarray, triangles: np.ndarray, faces: np.ndarray, p: np.ndarray, normal: np.ndarray,
-                   pyramids: np.ndarray, pole: np.ndarray, sin_dec: tuple[float, float], sin_min_alt: float) -> np.ndarray:
-    """The faces (ids into ``triangles``) that can lie between ``p`` and the sun through a window.
-
-    A face is dropped only when its spherical image from ``p`` certainly misses one of: the half
-    space in front of the window's plane, the pyramid over one of the windows (``pyramids``, from
-    :func:`window_pyramid`), the sun's band of declinations ``sin_dec`` (sines, about ``pole``) and
-    the cap above the minimum altitude.
-    """
-    if len(faces) == 0:
-        return faces
-    rel = vertices - p
-    dist = np.linalg.norm(rel, axis=1)
-    eps = ANGLE_SLACK * dist
-    tri = triangles[faces]
-    # linear tests per vertex, as bits: a face is outside a plane through p when all three corners are
-    front = rel @ normal > -eps
-    if len(pyramids) == 0:
-        keep = front[tri].any(axis=1)
-    else:
-        keep = np.zeros(len(faces), bool)
-        for g in pyramids:  # one pyramid per window of the room: bit 0 in front, bits 1-4 inside each side
-            bits = front.astype(np.uint8)
-            for i, gi in enumerate(g):
-                bits |= (rel @ (gi / np.linalg.norm(gi)) > -eps).astype(np.uint8) << (i + 1)
-            corner = bits[tri]
-            keep |= (corner[:, 0] | corner[:, 1] | corner[:, 2]) == 0b11111
-    cand, tri = faces[keep], tri[keep]
-    if len(cand) == 0:
-        return cand
-    # a quick bound first: the spherical triangle lies in the cap about its first corner through the
-    # farthest corner (a cap under 90 deg is convex), so altitude and declination stay within that
-    # radius of the first corner's
-    unit = rel / np.maximum(dist, 1e-300)[:, None]
-    alt = np.arcsin(np.clip(unit[:, 2], -1, 1))
-    dec = np.arcsin(np.clip(unit @ pole, -1, 1))
-    u0 = unit[tri[:, 0]]
-    chord = np.maximum(np.linalg.norm(unit[tri[:, 1]] - u0, axis=1), np.linalg.norm(unit[tri[:, 2]] - u0, axis=1))
-    r = 2 * np.arcsin(np.clip(chord / 2, 0, 1)) + ANGLE_SLACK
-    a0, d0 = alt[tri[:, 0]], dec[tri[:, 0]]
-    sin_lo, sin_hi = np.arcsin(np.clip(sin_dec[0], -1, 1)), np.arcsin(np.clip(sin_dec[1], -1, 1))
-    close = dist[tri].min(axis=1) <= 1e-9
-    maybe = close | (r >= np.pi / 2) | ((a0 + r >= np.arcsin(sin_min_alt)) & (d0 + r >= sin_lo) & (d0 - r <= sin_hi))
-    cand = cand[maybe]
-    if len(cand) == 0:
-        return cand
-    u = rel[triangles[cand]]
-    _, zhi = spherical_extent(u, np.array([0.0, 0.0, 1.0]))
-    dlo, dhi = spherical_extent(u, pole)
-    ok = (zhi >= sin_min_alt - ANGLE_SLACK) & (dhi >= sin_dec[0] - ANGLE_SLACK) & (dlo <= sin_dec[1] + ANGLE_SLACK)
-    return cand[ok]
-
-
-def triangle_edges(triangles: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """The distinct edges (k, 2) (vertex ids) of ``faces``."""
-    t = triangles[faces]
-    e = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
-    e.sort(axis=1)
-    return np.unique(e, axis=0) if len(e) else e.reshape(0, 2)
 
 
 def pole_vector(latitude_deg: float, true_north_deg: float) -> np.ndarray:
