@@ -12,30 +12,9 @@ from pathlib import Path
 import click
 
 from en17037cli import __version__
+from en17037cli.terminal import annotate, batch_table, comparison_table, list_objects, progress_factory, summary
 
 EXIT_PASS, EXIT_FAIL, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
-
-
-def _stderr_console():
-    from rich.console import Console
-
-    return Console(stderr=True)
-
-
-def _progress_factory(enabled: bool):
-    """A ``progress(total, label) -> advance(n)`` callable drawing rich bars on stderr, or None."""
-    if not enabled:
-        return None, None
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                   console=_stderr_console(), transient=True)
-
-    def progress(total: int, label: str):
-        task = bar.add_task(label, total=total)
-        return lambda n: bar.advance(task, n)
-
-    return bar, progress
 
 
 def _fail(message: str, code: int):
@@ -124,17 +103,6 @@ def junit_option(fn):
                              "not assessable / not assessed).")(fn)
 
 
-def _annotate(records) -> None:
-    """GitHub Actions annotations (``::error ...``) on stdout, when running in GitHub Actions."""
-    import os
-
-    if os.environ.get("GITHUB_ACTIONS") == "true":
-        from en17037cli.report.junit import github_annotations
-
-        for line in github_annotations(records):
-            click.echo(line)
-
-
 @cli.command()
 @project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
@@ -174,7 +142,7 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
         plots = not no_plots and pictures_available()
         painters = _painters() if plots else None
         try:
-            bar, progress = _progress_factory(not quiet and sys.stderr.isatty())
+            bar, progress = progress_factory(not quiet and sys.stderr.isatty())
             if bar is not None:
                 with bar:
                     result = pipeline.run(project, only, progress, max_points or MAX_POINTS, pictures=plots)
@@ -204,11 +172,11 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
 
     _exit_on_sigterm()
     report, comparison, record = guard(run)
-    _annotate([record])
+    annotate([record])
     if not quiet:
-        _summary(report, out)
+        summary(report, out)
         if comparison is not None:
-            _comparison_table(comparison, err=True)
+            comparison_table(comparison, err=True)
     if comparison is not None:
         sys.exit(comparison.exit_code)
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
@@ -252,32 +220,6 @@ def _exit_on_sigterm():
         sys.exit(128 + signum)
 
     signal.signal(signal.SIGTERM, handler)
-
-
-def _summary(report: dict, out: Path):
-    from rich.table import Table
-
-    from en17037cli.report.labels import STATUS_LABEL
-
-    table = Table(title=f"EN 17037: {report['project']['name']}")
-    for col in ("room", "check", "reached", "required", "result"):
-        table.add_column(col)
-    for room in report["rooms"]:
-        for name, key in (("view out", "view"), ("sunlight", "sunlight")):
-            r = room[key]
-            if r:
-                extra = f" ({r['hours']} h on {r['assessed_date']})" if key == "sunlight" and r["status"] in ("pass", "fail") else ""
-                table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
-    console = _stderr_console()
-    console.print(table)
-    s = report["summary"]
-    if s["dwellings_sunlight_required"] > 1:
-        console.print(f"{s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass sunlight; "
-                      f"{s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass view")
-    for w in report["warnings"]:
-        console.print(f"warning: {w}", style="yellow", highlight=False)
-    console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.html, report.md, report.json, view_points.csv, "
-                  "sunlight_days.csv)")
 
 
 @cli.command()
@@ -342,23 +284,7 @@ def validate(project_file: Path, overrides, max_points, objects):
     for note in scene.notes:
         click.echo(f"note: {note}")
     if objects:
-        _list_objects(scene)
-
-
-def _list_objects(scene):
-    """One line per part of the model: file, names, layer, faces (``validate --objects``)."""
-    import numpy as np
-
-    from en17037cli.scene.model import LAYERS
-
-    faces = np.bincount(scene.part, minlength=len(scene.parts))
-    for i, part in enumerate(scene.parts):
-        if not faces[i]:
-            continue
-        layers = np.unique(scene.layer[scene.part == i])
-        names = ", ".join(f"{k}={v}" for k, v in part.attrs.items() if k != "file")
-        click.echo(f"object {part.attrs.get('file', '')}: {names or '(no name)'}: layer "
-                   f"{'/'.join(LAYERS[c] for c in layers)}, {faces[i]} faces")
+        list_objects(scene)
 
 
 @cli.group()
@@ -498,42 +424,12 @@ def batch(projects, variants, out_dir: Path, jobs, scheduler, only, overrides, m
             click.echo(f"[{len(finished)}/{n}] {rec.label}: {what}", err=True)
 
     records = guard(lambda: b.run(specs, out_dir, jobs, scheduler, junit, on_done=progress))
-    _annotate(records)
+    annotate(records)
     if not quiet:
-        _batch_table(records, out_dir)
+        batch_table(records, out_dir)
     from en17037cli.report.summary import worst_exit_code
 
     sys.exit(worst_exit_code(records))
-
-
-def _batch_table(records, out: Path) -> None:
-    from rich.markup import escape
-    from rich.table import Table
-
-    from en17037cli.report.labels import STATUS_LABEL
-
-    table = Table(title="EN 17037 batch")
-    for col in ("run", "room", "check", "reached", "required", "result", "hours / share"):
-        table.add_column(col)
-    for rec in records:
-        for row in rec.rows:
-            result = STATUS_LABEL[row["status"]]
-            if row["verdict"] != row["status"]:
-                result += " (dwelling passes)" if row["dwelling_status"] == "pass" else " (not asked)"
-            figure = (f"{row['hours']} h" if row["hours"] is not None else
-                      f"{row['share']:.0%}" if row["share"] is not None else "")
-            table.add_row(escape(rec.label), escape(row["room"]), row["criterion"], row["level"] or "-", row["required"], result,
-                          figure)
-    console = _stderr_console()
-    if table.row_count:
-        console.print(table)
-    for rec in records:  # whole lines, never wrapped: scripts and people grep them
-        if rec.exit_code >= 2:
-            for line in rec.message.splitlines():
-                click.echo(f"error: {rec.label}: {line}", err=True)
-    counts = {code: sum(r.exit_code == code for r in records) for code in range(4)}
-    click.echo(f"{len(records)} runs: {counts[0]} pass, {counts[1]} fail, {counts[2]} bad input, {counts[3]} internal error; "
-               f"summary in {out}/ (summary.csv, summary.json)", err=True)
 
 
 @cli.command()
@@ -555,27 +451,8 @@ def compare(before: Path, after: Path, fmt, everything):
     elif fmt == "json":
         click.echo(comparison_json(c), nl=False)
     else:
-        _comparison_table(c, everything=everything)
+        comparison_table(c, everything=everything)
     sys.exit(c.exit_code)
-
-
-def _comparison_table(c, err: bool = False, everything: bool = False) -> None:
-    from rich.console import Console
-    from rich.markup import escape
-    from rich.table import Table
-
-    from en17037cli.compare import headline, table_rows
-
-    console = Console(stderr=err)
-    rows = table_rows(c, everything)
-    if rows:
-        table = Table(title=escape(f"{c.before} → {c.after}"))
-        for col in ("change", "room", "criterion", "level", "status", "figures"):
-            table.add_column(col)
-        for r in rows:
-            table.add_row(*(escape(x) for x in r), style="red" if r[0].startswith(("worse", "added (regression)")) else None)
-        console.print(table)
-    click.echo(headline(c), err=err)  # one whole line, never wrapped
 
 
 @cli.command()

@@ -1,0 +1,131 @@
+"""What ``en17037`` shows on the terminal: the tables of check, batch and compare, progress bars,
+the object list of validate, and GitHub Actions annotations (rich and click; no computation)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+
+def stderr_console():
+    from rich.console import Console
+
+    return Console(stderr=True)
+
+
+def progress_factory(enabled: bool):
+    """A ``progress(total, label) -> advance(n)`` callable drawing rich bars on stderr, or None."""
+    if not enabled:
+        return None, None
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                   console=stderr_console(), transient=True)
+
+    def progress(total: int, label: str):
+        task = bar.add_task(label, total=total)
+        return lambda n: bar.advance(task, n)
+
+    return bar, progress
+
+
+def annotate(records) -> None:
+    """GitHub Actions annotations (``::error ...``) on stdout, when running in GitHub Actions."""
+    import os
+
+    if os.environ.get("GITHUB_ACTIONS") == "true":
+        from en17037cli.report.junit import github_annotations
+
+        for line in github_annotations(records):
+            click.echo(line)
+
+
+def summary(report: dict, out: Path):
+    from rich.table import Table
+
+    from en17037cli.report.labels import STATUS_LABEL
+
+    table = Table(title=f"EN 17037: {report['project']['name']}")
+    for col in ("room", "check", "reached", "required", "result"):
+        table.add_column(col)
+    for room in report["rooms"]:
+        for name, key in (("view out", "view"), ("sunlight", "sunlight")):
+            r = room[key]
+            if r:
+                extra = f" ({r['hours']} h on {r['assessed_date']})" if key == "sunlight" and r["status"] in ("pass", "fail") else ""
+                table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
+    console = stderr_console()
+    console.print(table)
+    s = report["summary"]
+    if s["dwellings_sunlight_required"] > 1:
+        console.print(f"{s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass sunlight; "
+                      f"{s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass view")
+    for w in report["warnings"]:
+        console.print(f"warning: {w}", style="yellow", highlight=False)
+    console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.html, report.md, report.json, view_points.csv, "
+                  "sunlight_days.csv)")
+
+
+def list_objects(scene):
+    """One line per part of the model: file, names, layer, faces (``validate --objects``)."""
+    import numpy as np
+
+    from en17037cli.scene.model import LAYERS
+
+    faces = np.bincount(scene.part, minlength=len(scene.parts))
+    for i, part in enumerate(scene.parts):
+        if not faces[i]:
+            continue
+        layers = np.unique(scene.layer[scene.part == i])
+        names = ", ".join(f"{k}={v}" for k, v in part.attrs.items() if k != "file")
+        click.echo(f"object {part.attrs.get('file', '')}: {names or '(no name)'}: layer "
+                   f"{'/'.join(LAYERS[c] for c in layers)}, {faces[i]} faces")
+
+
+def batch_table(records, out: Path) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    from en17037cli.report.labels import STATUS_LABEL
+
+    table = Table(title="EN 17037 batch")
+    for col in ("run", "room", "check", "reached", "required", "result", "hours / share"):
+        table.add_column(col)
+    for rec in records:
+        for row in rec.rows:
+            result = STATUS_LABEL[row["status"]]
+            if row["verdict"] != row["status"]:
+                result += " (dwelling passes)" if row["dwelling_status"] == "pass" else " (not asked)"
+            figure = (f"{row['hours']} h" if row["hours"] is not None else
+                      f"{row['share']:.0%}" if row["share"] is not None else "")
+            table.add_row(escape(rec.label), escape(row["room"]), row["criterion"], row["level"] or "-", row["required"], result,
+                          figure)
+    console = stderr_console()
+    if table.row_count:
+        console.print(table)
+    for rec in records:  # whole lines, never wrapped: scripts and people grep them
+        if rec.exit_code >= 2:
+            for line in rec.message.splitlines():
+                click.echo(f"error: {rec.label}: {line}", err=True)
+    counts = {code: sum(r.exit_code == code for r in records) for code in range(4)}
+    click.echo(f"{len(records)} runs: {counts[0]} pass, {counts[1]} fail, {counts[2]} bad input, {counts[3]} internal error; "
+               f"summary in {out}/ (summary.csv, summary.json)", err=True)
+
+
+def comparison_table(c, err: bool = False, everything: bool = False) -> None:
+    from rich.console import Console
+    from rich.markup import escape
+    from rich.table import Table
+
+    from en17037cli.compare import headline, table_rows
+
+    console = Console(stderr=err)
+    rows = table_rows(c, everything)
+    if rows:
+        table = Table(title=escape(f"{c.before} → {c.after}"))
+        for col in ("change", "room", "criterion", "level", "status", "figures"):
+            table.add_column(col)
+        for r in rows:
+            table.add_row(*(escape(x) for x in r), style="red" if r[0].startswith(("worse", "added (regression)")) else None)
+        console.print(table)
+    click.echo(headline(c), err=err)  # one whole line, never wrapped
