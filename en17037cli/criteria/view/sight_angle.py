@@ -23,6 +23,7 @@ from en17037cli.bisection import bisect_transitions
 from en17037cli.criteria.view.distance import horizontal_distance
 from en17037cli.criteria.view.frames import RoomGeometry
 from en17037cli.criteria.view.gnomonic import MIN_PLANE_DISTANCE_M
+from en17037cli.criteria.view.plan import cut_triangles
 from en17037cli.criteria.view.rays import BLOCKED, ViewRays
 from en17037cli.criteria.view.results import SightAngles
 from en17037cli.project.settings import ViewSettings
@@ -41,22 +42,10 @@ def fan_intervals(rg: RoomGeometry, points: np.ndarray):
     pt : (q,) int; start : (q,) float [rad] in [0, 2 pi); width : (q,) float [rad]
     """
     tri, tw = rg.triangles, rg.triangle_window
-    s = tri[None, :, :, 2] - points[:, None, None, 2]  # (p, k, 3) height of each vertex above the eye
-    ends = []
-    for a, b in ((0, 1), (1, 2), (2, 0)):  # the three edges of every triangle
-        sa, sb = s[..., a], s[..., b]
-        cross = (sa <= 0) != (sb <= 0)
-        t = sa / np.where(cross, sa - sb, 1.0)
-        xy = tri[None, :, a, :2] + t[..., None] * (tri[None, :, b, :2] - tri[None, :, a, :2])
-        ends.append((cross, xy))
-    flags = np.stack([e[0] for e in ends], axis=-1)  # (p, k, 3)
-    xy = np.stack([e[1] for e in ends], axis=-2)  # (p, k, 3, 2)
-    two = flags.sum(axis=-1) == 2
-    first = np.argmax(flags, axis=-1)
-    second = 2 - np.argmax(flags[..., ::-1], axis=-1)
+    two, a, b = cut_triangles(tri, points[:, 2])  # (p, k): the plane through each eye cuts each window triangle
     pi, ki = np.nonzero(two)
-    e1 = xy[pi, ki, first[pi, ki]] - points[pi, :2]
-    e2 = xy[pi, ki, second[pi, ki]] - points[pi, :2]
+    e1 = a[pi, ki] - points[pi, :2]
+    e2 = b[pi, ki] - points[pi, :2]
     n = rg.frame_array("n")[tw[ki]]
     front = np.einsum("ij,ij->i", rg.frame_array("origin")[tw[ki]] - points[pi], n) > MIN_PLANE_DISTANCE_M
     pi, e1, e2 = pi[front], e1[front], e2[front]
