@@ -222,6 +222,33 @@ def scaling(quick: bool) -> dict:
     return out
 
 
+def painters_scaling(n_rooms: int = 36) -> list:
+    """Wall time [s] of drawing every picture of the first ``n_rooms`` rooms of the generated block
+    with 1 and with 2 drawing processes (:class:`~en17037cli.report.figures.Painters`), the
+    rays traced once beforehand; the first process has warmed up, a second one starts (and imports
+    matplotlib) within the time, as in a run. The figures are checked to be the same bytes."""
+    from en17037cli.pipeline import run
+    from en17037cli.project import load_project
+    from en17037cli.report.figures import Painters, figure_jobs
+
+    with tempfile.TemporaryDirectory() as tmp:
+        jobs = figure_jobs(run(load_project(block_project(Path(tmp), n_rooms), []), pictures=True))
+    rows, first = [], None
+    for workers in (1, 2):
+        pool = Painters(workers)
+        try:
+            time.sleep(2.0)  # the first worker warms up meanwhile, as it does while a run traces rays
+            t0 = time.perf_counter()
+            figures = pool.draw(jobs)
+            wall = time.perf_counter() - t0
+        finally:
+            pool.close()
+        first = first or [f.png for f in figures]
+        assert [f.png for f in figures] == first
+        rows.append({"rooms": n_rooms, "pictures": len(jobs), "workers": workers, "draw_s": wall})
+    return rows
+
+
 def pictures_cost(repeat: int = 5) -> dict:
     """Median wall time of ``check`` on the seed office with and without pictures [s], and the difference."""
     import statistics
@@ -468,6 +495,9 @@ def main(argv=None) -> int:
         result["pictures"] = pictures_cost()
         _table("Pictures of the client report: check with and without --no-plots, median of 5 [s]", [result["pictures"]],
                ["project", "with_pictures_s", "without_pictures_s", "added_s", "pictures_stage_s", "figures_stage_s"])
+        result["painters"] = painters_scaling()
+        _table("Drawing a 36-room block's pictures with 1 and 2 processes [s]", result["painters"],
+               ["rooms", "pictures", "workers", "draw_s"])
     if "sensitivity" in args.only:
         result["sensitivity"] = sensitivity_cost()
         _table("Sensitivity study against one check (seed office) [s]", [result["sensitivity"]],
