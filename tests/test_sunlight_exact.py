@@ -258,3 +258,20 @@ def test_union_over_points_merges_each_day_like_a_hand_merge(seed):
     for k in range(nd):
         want = _merge_by_hand(np.concatenate([p[k] for p in per_point]))
         np.testing.assert_array_equal(got[k], want)
+
+
+if __name__ == "__main__":  # the README's table: python tests/test_sunlight_exact.py
+    import tempfile
+    from pathlib import Path
+
+    print("scene, day: error of the day's hours against the brute force [s]: exact (60 and 5 min), sampled 5 min, sampled 60 min")
+    with tempfile.TemporaryDirectory() as tmp:
+        for case, obstacle, clear in (("posts", posts(), clear_of_posts), ("slits", slit_wall(), clear_of_wall)):
+            for date in ("02-01", "02-25", "03-21"):
+                truth = brute_force_hours(date, clear)
+                errs = []
+                for method, step, sun in (("exact", 60.0, None), ("exact", 5.0, None), ("sampled", 5.0, {"tolerance_s": 1.0}),
+                                          ("sampled", 60.0, {"tolerance_s": 1.0})):
+                    _, r = built_with(Path(tmp), obstacle, case, date, method=method, step=step, extra_sun=sun)
+                    errs.append((r.hours[0] - truth) * 3600)
+                print(f"{case}, {date}: " + " / ".join(f"{e:+.2f}" for e in errs))
