@@ -107,7 +107,7 @@ def junit_option(fn):
 @project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Report folder [default: en17037-report/<project file stem>/ beside the project file].")
-@click.option("--only", type=click.Choice(["view", "sunlight"]), default=None,
+@click.option("--only", type=click.Choice(["view", "sunlight", "daylight"]), default=None,
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option
@@ -384,7 +384,7 @@ def sensitivity(project_file: Path, out_dir: Path, overrides):
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Run on a Dask cluster: its scheduler's address (tcp://host:8786), or 'local' for a LocalCluster "
                    "(needs the dask extra).")
-@click.option("--only", type=click.Choice(["view", "sunlight"]), default=None,
+@click.option("--only", type=click.Choice(["view", "sunlight", "daylight"]), default=None,
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option

@@ -128,10 +128,10 @@ def assess_dwelling(d: Dwelling, rooms: dict[str, RoomResult], rule: str, thresh
 
 
 def overall_status(rooms: list[RoomResult], dwellings: list[DwellingResult]) -> str:
-    """``pass`` when every required level is met: view in every room, sunlight in every dwelling.
-    A required criterion that did not assess a room (not assessed, not assessable) does not meet
-    its requirement."""
-    ok = all(r.status("view") in (None, "pass") for r in rooms)
+    """``pass`` when every required level is met: view and daylight in every room, sunlight in every
+    dwelling. A required criterion that did not assess a room (not assessed, not assessable) does
+    not meet its requirement."""
+    ok = all(r.status("view") in (None, "pass") and r.status("daylight") in (None, "pass") for r in rooms)
     ok &= all(d.status in (None, "pass") for d in dwellings)
     return "pass" if ok else "fail"
 

@@ -13,7 +13,7 @@ from en17037cli.geometry import triangle_normals
 from en17037cli.io import ReadOptions, is_context, read_model
 from en17037cli.io.mesh import Mesh, Space
 from en17037cli.project.settings import ModelFile, ModelSettings, Transform
-from en17037cli.scene.layers import assign_layers
+from en17037cli.scene.layers import assign_layers, assign_optics
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry
 
 #: Length of one model unit [m].
@@ -60,6 +60,7 @@ class LoadedFile:
     vertices: np.ndarray  # (n, 3) float64 [m], world frame
     part_layer: np.ndarray  # (parts,) int layer code, -1 ignore
     part_sun: np.ndarray  # (parts,) bool
+    part_optics: np.ndarray | None = None  # (parts, 2) reflectance, transmittance from the rules (NaN: default), or None
 
 
 #: Meshes already read, by (path, size, modification time, options), while a
@@ -89,7 +90,7 @@ def read_file(i: int, spec: ModelFile, model: ModelSettings, where: str, options
     verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
     part_layer, part_sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
     warnings.extend(unmatched)
-    return LoadedFile(i, spec, mesh, verts, part_layer, part_sun)
+    return LoadedFile(i, spec, mesh, verts, part_layer, part_sun, assign_optics(spec, mesh, spec.path.stem))
 
 
 #: Compound CRSs whose horizontal part is another code: files in either line up in plan.
@@ -198,7 +199,7 @@ def placed_space(space: Space, spec: ModelFile) -> Space:
 
 
 def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> Geometry:
-    all_v, all_t, all_l, all_s, all_p, parts = [], [], [], [], [], []
+    all_v, all_t, all_l, all_s, all_p, all_o, parts = [], [], [], [], [], [], []
     offset = 0
     dropped = glazing_parts = 0
     for f in files:  # one pass per model file
@@ -217,6 +218,7 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
         all_t.append(tris[keep] + offset)
         all_l.append(layer[keep])
         all_s.append(sun[keep])
+        all_o.append(np.full((int(np.count_nonzero(keep)), 2), np.nan) if f.part_optics is None else f.part_optics[mesh.part[keep]])
         all_p.append(mesh.part[keep] + len(parts))
         parts.extend(replace(p, attrs={**p.attrs, "file": f.spec.path.stem}) for p in mesh.parts)
         offset += len(verts)
@@ -228,7 +230,8 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
                  np.concatenate(all_s), parts, np.concatenate(all_p), notes, warnings, hashes,
                  sites=[(f.spec.display, f.mesh.site, f.spec.transform.rotate_deg if f.spec.transform else 0.0)
                         for f in files if f.mesh.site is not None],
-                 spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces])
+                 spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces],
+                 optics=np.concatenate(all_o) if any(f.part_optics is not None for f in files) else None)
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
                          "degenerate, NaN or infinite (zero area); re-export the glazing")
