@@ -120,7 +120,7 @@ def black_room(tmp_path_factory):
     for r in doc["model"]["files"][0]["layers"]:
         r["reflectance" if r["layer"] != "window" else "transmittance"] = 0.0 if r["layer"] != "window" else 1.0
     doc["daylight"] = {"median_diffuse_lx": 15000, "grid_spacing_m": 1.0,
-                       "radiance": {"ab": 1, "ad": 1024, "lw": 1e-4, "replicates": 4}}
+                       "radiance": {"ab": 1, "ad": 4096, "lw": 1e-4, "replicates": 4}}
     doc["requirements"] = {"daylight": "minimum"}
     path.write_text(yaml.safe_dump(doc, sort_keys=False))
     out = d / "out"
