@@ -386,6 +386,36 @@ def dask_scaling(quick: bool) -> list:
     return rows
 
 
+#: A real IFC export (../shared/data/real-models) checked for daylight provision (method 1).
+REAL_IFC = ROOT.parent / "shared" / "data" / "real-models" / "Duplex_A_20110907.ifc"
+
+
+def daylight_cost() -> list:
+    """Daylight provision (5.1) with its verdicts and the daylight stage's time: the seed office and
+    a real IFC export (every IfcSpace, method 1 at the defaults)."""
+    rows = []
+    for name, path in (("seed-office", SAMPLES["seed-office"]), ("Duplex (real IFC)", None)):
+        with tempfile.TemporaryDirectory() as tmp:
+            if path is None:
+                if not REAL_IFC.is_file():
+                    continue
+                path = Path(tmp) / "project.yaml"
+                path.write_text(f"version: 1\nname: Duplex\nmodel: {{files: [{{path: '{REAL_IFC}'}}]}}\n"
+                                "location: {timezone: America/Chicago}\nrooms: [{ifc_spaces: '*'}]\n"
+                                "daylight: {median_diffuse_lx: 13300}\nrequirements: {daylight: minimum, view: none, sunlight: none}\n")
+            out = Path(tmp) / "out"
+            cmd = [sys.executable, "-m", "en17037cli", "check", str(path), "--quiet", "--no-plots", "--out", str(out), "--only", "daylight"]
+            t = time.perf_counter()
+            subprocess.run(cmd, capture_output=True, text=True, check=False)
+            wall = time.perf_counter() - t
+            rep = json.loads((out / "report.json").read_text())
+            secs = [r["daylight"] for r in rep["rooms"] if r.get("daylight") and r["daylight"]["status"] in ("pass", "fail")]
+            rows.append({"project": name, "rooms": len(secs), "points": sum(len(s["points"]) for s in secs),
+                         "pass": sum(s["status"] == "pass" for s in secs), "levels": " ".join(s["level"] for s in secs),
+                         "daylight_s": rep["timings_s"].get("daylight"), "wall_s": round(wall, 3)})
+    return rows
+
+
 def _target(name: str, measured: float, limit: float, unit: str, raw_s: float | None = None) -> dict:
     return {"target": name, "measured": measured, "limit": limit, "unit": unit, "met": "met" if measured < limit else "NOT met",
             "raw_embree_s": raw_s, "ratio_to_raw": None if not raw_s else measured / raw_s}
@@ -451,7 +481,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building", "dask", "targets")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building", "dask", "daylight", "targets")
 
 
 def main(argv=None) -> int:
@@ -482,7 +512,7 @@ def main(argv=None) -> int:
                                "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
         result["check"] = checks
         _table("en17037 check (child process; wall includes start-up) [s, MB]", checks,
-               ["project", "wall_s", "peak_mb", "load", "build", "view", "sunlight", "report", "rays"])
+               ["project", "wall_s", "peak_mb", "load", "build", "view", "sunlight", "daylight", "report", "rays"])
     if "scaling" in args.only:
         result["scaling"] = scaling(args.quick)
         sc = result["scaling"]
@@ -514,6 +544,10 @@ def main(argv=None) -> int:
         result["dask"] = dask_scaling(args.quick)
         _table("Dask: batch --scheduler local on the generated IFC block, defaults [rooms/s]", result["dask"],
                ["workers", "threads_per_worker", "rooms", "startup_s", "wall_s", "rooms_per_s", "speed_up"])
+    if "daylight" in args.only:
+        result["daylight"] = daylight_cost()
+        _table("Daylight provision (5.1), method 1 at the defaults (-ab 5 -ad 512, 4 replicates) [s]", result["daylight"],
+               ["project", "rooms", "points", "pass", "levels", "daylight_s", "wall_s"])
     if "targets" in args.only:
         if "throughput" not in result:
             result["throughput"] = throughput()

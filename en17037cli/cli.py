@@ -306,7 +306,7 @@ def _target_kinds():
               help="Run only this ladder, e.g. view.angular_resolution_deg (repeatable) [default: all].")
 @click.option("--target", "targets", multiple=True,
               type=KindValue(_target_kinds),
-              help="Error target: angle_deg, solid_angle_sr, distance_m, hours_s, share_pp (repeatable).")
+              help="Error target: angle_deg, solid_angle_sr, distance_m, hours_s, share_pp, daylight_factor_pct, share_of_hours (repeatable).")
 @click.option("--points", "max_points", type=click.IntRange(1), default=None,
               help="Use at most this many viewpoints per room and eye height (spread evenly).")
 @set_option

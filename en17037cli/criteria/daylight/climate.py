@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from en17037cli.criteria.daylight import radiance
-from en17037cli.criteria.daylight.assess import climate_shares, mean_and_error, judge
+from en17037cli.criteria.daylight.assess import climate_shares, judge, mean_and_error
 from en17037cli.criteria.daylight.results import DaylightResult
 from en17037cli.project.settings import DaylightSettings
 from en17037cli.standard import LEVELS
