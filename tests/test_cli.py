@@ -163,7 +163,8 @@ def test_validate_seed_office():
 
 def test_seed_office_sunlight_reports_all_49_days(tmp_path):
     out = tmp_path / "seed"
-    r = invoke("check", SEED, "--out", out, "--quiet", "--only", "sunlight", "--set", "requirements.view=none")
+    r = invoke("check", SEED, "--out", out, "--quiet", "--only", "sunlight", "--set", "requirements.view=none",
+               "--set", "requirements.daylight=none")
     assert r.exit_code == 0, r.output
     s = json.loads((out / "report.json").read_text())["rooms"][0]["sunlight"]
     assert len(s["days"]) == 49 and s["days"][0]["date"] == "2026-02-01" and s["days"][-1]["date"] == "2026-03-21"

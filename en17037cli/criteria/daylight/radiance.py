@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import io
 import os
+import signal
 import subprocess
 import tempfile
 from pathlib import Path
@@ -163,6 +164,8 @@ def run(args: list[str], stdin: bytes | None = None, cwd: Path | None = None) ->
     lib = str(Path(pyradiance.__file__).parent / "lib")
     env["RAYPATH"] = os.pathsep.join([".", lib])
     proc = subprocess.run([str(exe), *args[1:]], input=stdin, capture_output=True, cwd=cwd, env=env, check=False)
+    if proc.returncode == -signal.SIGINT:  # Ctrl-C reached the program too: the run is interrupted, not broken
+        raise KeyboardInterrupt
     if proc.returncode != 0:
         raise RuntimeError(f"Radiance {args[0]} failed ({proc.returncode}): {proc.stderr.decode(errors='replace').strip()[:500]}")
     return proc.stdout
