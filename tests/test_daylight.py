@@ -41,6 +41,8 @@ def test_aggregation_orders_by_hand():
     t, m, per_point = climate_shares(e, THRESHOLDS, "hours_first")
     assert per_point[300.0].tolist() == [0.5, 0.25, 0.75, 0.0]
     assert t["minimum"] == 0.5  # points 1 and 3 reach 300 lx on >= 50 % of the hours
+    assert m["medium"] == 0.5  # medium's minimum target is 300 lx too
+    assert m["minimum"] == 0.5 and t["medium"] == 0.0  # 100 lx: the same two points; 500 lx: none
     # points first: per hour the share of the plane >= 300 lx is 3/4, 2/4, 1/4, 0; the share reached on
     # at least half (2 of 4) of the hours is the 2nd largest: 1/2
     t2, _, _ = climate_shares(e, THRESHOLDS, "points_first")

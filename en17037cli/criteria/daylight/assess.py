@@ -142,5 +142,5 @@ def climate_shares(e_lx: np.ndarray, thresholds: Thresholds, aggregation: str) -
             else:
                 per_hour = (e_lx >= lx).mean(axis=0) if len(e_lx) else np.zeros(e_lx.shape[1])
                 shares[name] = upper_median(per_hour, standard.DAYLIGHT_HOURS_FRACTION)
-            out.append(shares)
+        out.append(shares)
     return out[0], out[1], per_point
