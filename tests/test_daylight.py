@@ -166,3 +166,23 @@ def test_real_ifc_carries_a_daylight_verdict(tmp_path):
     living = [v["median_daylight_factor_pct"] for k, v in judged.items() if k.startswith("Living")]
     kitchen = [v["median_daylight_factor_pct"] for k, v in judged.items() if k.startswith("Kitchen")]
     assert living and kitchen and min(living) > max(kitchen)
+
+
+def test_sensitivity_tries_the_aggregation_order(tmp_path):
+    pytest.importorskip("pyradiance")
+    from en17037cli.studies.sensitivity import sensitivity
+
+    synthetic_epw(tmp_path / "site.epw")
+    path = _project(tmp_path, {"method": "climate_based", "weather": "site.epw", "grid_spacing_m": 1.5, "sun_subdivision": 1,
+                               "radiance": {"ab": 1, "ad": 64, "replicates": 2}})
+    doc = yaml.safe_load(path.read_text())
+    doc["sensitivity"] = {"ranges": {"daylight.radiance.ab": [2], "daylight.radiance.ad": [64], "daylight.sky_subdivision": [1]}}
+    doc["requirements"] = {"daylight": "minimum"}
+    path.write_text(yaml.safe_dump(doc))
+    out = sensitivity(path, tmp_path / "sens", log=lambda m: None)
+    rows = [r for r in out["rooms"] if r["check"] == "daylight"]
+    assert len(rows) == 1
+    csv_text = (tmp_path / "sens" / "sensitivity.csv").read_text()
+    assert "daylight,daylight.aggregation,points_first" in csv_text  # the other order, tried
+    assert "daylight,daylight.radiance.ab,2" in csv_text
+    assert "daylight.radiance.ad" not in csv_text and "daylight.sky_subdivision" not in csv_text  # the project's own values
