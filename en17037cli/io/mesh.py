@@ -99,6 +99,8 @@ class Site:
         (from the model context's TrueNorth)
     crs : str, e.g. "EPSG:7415", the coordinate reference system of the vertices
     source : str, one line saying where the values came from (for the report)
+    reprojected_from : str, the CRS the file's coordinates were in where the reader projected them
+        to ``crs`` (CityGML to the project's CRS), else None
     """
 
     latitude: float | None = None
@@ -107,6 +109,7 @@ class Site:
     true_north_deg: float | None = None
     crs: str | None = None
     source: str = ""
+    reprojected_from: str | None = None
 
 
 @dataclass
@@ -122,7 +125,9 @@ class Mesh:
     notes : neutral facts worth a line in the report (LoD fallbacks, objects left out by distance)
     units, up_axis : "m" / "z" when the format fixes them, None when the project decides
     site : what the file says about its location, north and CRS, or None
-    spaces : rooms the file defines (IfcSpace), in the vertices' frame
+    spaces : rooms the file defines (IfcSpace, gbXML Space), in the vertices' frame
+    summary : one line of what the reader read and left out, with counts (``validate`` prints it),
+        or "" (the scene then counts triangles and parts)
     """
 
     vertices: np.ndarray
@@ -135,6 +140,7 @@ class Mesh:
     up_axis: str | None = None
     site: Site | None = None
     spaces: list[Space] = field(default_factory=list)
+    summary: str = ""
 
     def __post_init__(self):
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)

@@ -98,9 +98,11 @@ HORIZONTAL_CRS = {"EPSG:7415": "EPSG:28992"}  # Amersfoort / RD New + NAP height
 
 
 def check_crs(files: list[LoadedFile], where: str) -> str | None:
-    """The one CRS the georeferenced files share (a file's own ``crs`` key wins over what it says),
-    or None when none says; different CRSs are an input error naming both files."""
-    said = [(f.spec.display, f.spec.crs or (f.mesh.site.crs if f.mesh.site else None)) for f in files]
+    """The one CRS the georeferenced files share (a file's own ``crs`` key wins over what it says,
+    a file its reader projected is in the CRS it was projected to), or None when none says;
+    different CRSs are an input error naming both files."""
+    said = [(f.spec.display, f.mesh.site.crs if f.mesh.site and f.mesh.site.reprojected_from
+             else f.spec.crs or (f.mesh.site.crs if f.mesh.site else None)) for f in files]
     said = [(d, c) for d, c in said if c]
     if not said:
         return None
@@ -151,9 +153,11 @@ def load_geometry(model: ModelSettings, where: str) -> Geometry:
             own.append(read_file(i, spec, model, where, ReadOptions(exclude=spec.exclude), warnings))
     if context:
         near_xy, footprint = _context_bounds(own)
+        target = check_crs(own, where)  # city models in another CRS are projected to the model's (CityGML)
         for i, spec in context:  # city models: cut to the radius, without the model's own building
             options = ReadOptions(lod=spec.lod, exclude=spec.exclude,
-                                  near=None if near_xy is None else (near_xy, spec.context_radius_m))
+                                  near=None if near_xy is None else (near_xy, spec.context_radius_m),
+                                  crs=spec.crs, target_crs=target)
             f = read_file(i, spec, model, where, options, warnings)
             if spec.exclude_overlapping and footprint is not None:
                 f = _without_the_building(f, footprint, notes)
