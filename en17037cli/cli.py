@@ -248,6 +248,8 @@ def validate(project_file: Path, overrides, max_points, objects):
     project, scene, pf = guard(run)
     click.echo(f"{project_file}: valid")
     click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in scene.layer_counts().items()))
+    for display, line in scene.read:  # what each reader read and left out
+        click.echo(f"read {display}: {line}")
     if pf.points:
         click.echo(f"estimated cost: {pf.points:,} viewpoints, {pf.cells:,.0f} sampling cells (budget {max_points or MAX_POINTS:,} viewpoints)")
     bounding = set()

@@ -114,6 +114,16 @@ def check_crs(files: list[LoadedFile], where: str) -> str | None:
     return first[1]
 
 
+def read_summary(mesh: Mesh) -> str:
+    """What a file's reader read and left out, one line: the reader's own (spaces, openings, objects
+    by LoD...), else its triangles, objects and spaces counted."""
+    if mesh.summary:
+        return mesh.summary
+    n, k = len(mesh.triangles), len(mesh.parts)
+    spaces = f", {len(mesh.spaces)} space{'s' * (len(mesh.spaces) != 1)}" if mesh.spaces else ""
+    return f"{n} triangle{'s' * (n != 1)} in {k} part{'s' * (k != 1)} (named objects, each with its layer){spaces}"
+
+
 def building_footprint(files: list[LoadedFile]):
     """Plan of the model's own building [m, world xy]: its horizontal interior faces (slabs, floors,
     roofs) unioned, or the convex hull of its interior faces where none is horizontal; None without any."""
@@ -235,7 +245,8 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
                  sites=[(f.spec.display, f.mesh.site, f.spec.transform.rotate_deg if f.spec.transform else 0.0)
                         for f in files if f.mesh.site is not None],
                  spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces],
-                 optics=np.concatenate(all_o) if any(f.part_optics is not None for f in files) else None)
+                 optics=np.concatenate(all_o) if any(f.part_optics is not None for f in files) else None,
+                 read=[(f.spec.display, read_summary(f.mesh)) for f in files])
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
                          "degenerate, NaN or infinite (zero area); re-export the glazing")

@@ -113,6 +113,7 @@ class Geometry:
     sites: list = field(default_factory=list)
     spaces: list = field(default_factory=list)
     optics: np.ndarray | None = None  # (m, 2) reflectance, transmittance per face from the layer rules (NaN: default)
+    read: list = field(default_factory=list)  # (file, one line of what its reader read and left out), for validate
 
 
 @dataclass(kw_only=True)
