@@ -17,16 +17,19 @@ import numpy as np
 #: (``{class: "IfcWindow", layer: window}``); ``match`` globs test every value.
 PART_KEYS = {
     "object": "OBJ object (o), glTF node",
-    "group": "OBJ group (g), glTF geometry",
+    "group": "OBJ group (g), glTF geometry, DXF layer",
     "material": "OBJ material (usemtl), glTF/IFC material or surface style name",
     "file": "the model file's stem (set by the scene, not the reader)",
     "name": "IFC product Name",
-    "class": "IFC entity (IfcWindow) or CityJSON CityObject type (Building)",
-    "id": "IFC GlobalId or CityJSON object id",
+    "class": "IFC entity (IfcWindow), CityJSON / CityGML city object type (Building), DXF entity type (3DFACE), "
+             "gbXML surface or opening type (ExteriorWall, FixedWindow)",
+    "id": "IFC GlobalId, CityJSON object id, CityGML gml:id, gbXML surface or opening id",
     "type": "IFC type object name (IfcWindowType Name), or ObjectType",
     "storey": "IFC building storey Name",
     "surface": "semantic surface: CityJSON WallSurface/RoofSurface/GroundSurface...; IFC 'glazing' or 'frame'",
     "parent": "CityJSON parent object type (a BuildingPart's Building); IFC aggregate's class",
+    "colour": "DXF ACI colour number",
+    "space": "gbXML: the Name of the space a surface bounds",
 }
 
 #: Layers a reader may propose for a part (the project's rules decide; see scene/layers.py).
@@ -128,6 +131,8 @@ class Mesh:
     spaces : rooms the file defines (IfcSpace, gbXML Space), in the vertices' frame
     summary : one line of what the reader read and left out, with counts (``validate`` prints it),
         or "" (the scene then counts triangles and parts)
+    openings_drawn : the format draws windows on top of their walls, in their plane (DXF): the
+        scene cuts each window out of the coplanar opaque faces under it once layers are known
     """
 
     vertices: np.ndarray
@@ -141,6 +146,7 @@ class Mesh:
     site: Site | None = None
     spaces: list[Space] = field(default_factory=list)
     summary: str = ""
+    openings_drawn: bool = False
 
     def __post_init__(self):
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)

@@ -87,10 +87,25 @@ def read_file(i: int, spec: ModelFile, model: ModelSettings, where: str, options
     warnings.extend(mesh.warnings)
     units = spec.units or mesh.units or model.units
     up = spec.up_axis or mesh.up_axis or model.up_axis
-    verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
     part_layer, part_sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
+    if mesh.openings_drawn:
+        mesh = _cut_drawn_openings(mesh, part_layer, UNIT_SCALE_M[units], spec.display)
+    verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
     warnings.extend(unmatched)
     return LoadedFile(i, spec, mesh, verts, part_layer, part_sun, assign_optics(spec, mesh, spec.path.stem))
+
+
+def _cut_drawn_openings(mesh: Mesh, part_layer: np.ndarray, unit_m: float, name: str) -> Mesh:
+    """The mesh with each window cut out of the coplanar opaque faces it is drawn on (DXF), and a note."""
+    from en17037cli.io.openings import PLANE_TOLERANCE_M, cut_openings
+
+    v, t, p, n = cut_openings(mesh.vertices, mesh.triangles, mesh.part, part_layer == WINDOW,
+                              (part_layer >= 0) & (part_layer != WINDOW), PLANE_TOLERANCE_M / unit_m)
+    if n == 0:
+        return mesh
+    note = (f"{name}: {n} window plane{'s' * (n != 1)} drawn on coplanar opaque faces (walls drawn whole with the "
+            "windows on top, as EnergyPlus writes them): the openings cut in those faces")
+    return replace(mesh, vertices=v, triangles=t, part=p, notes=[*mesh.notes, note])
 
 
 #: Compound CRSs whose horizontal part is another code: files in either line up in plan.
