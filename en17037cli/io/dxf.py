@@ -270,7 +270,7 @@ def read_dxf(path: Path, options: ReadOptions | None = None) -> Mesh:
             warnings.append(f"{path.name}: $INSUNITS {insunits} is not a length unit ezdxf knows; the project's units apply")
     if skipped:
         notes.append(f"{path.name}: entities without 3D faces left out ({skipped})")
-    if auditor.has_errors or auditor.has_fixes:
+    if auditor.has_errors:  # its fixes (an undefined text style removed...) change no face
         warnings.append(f"{path.name}: the DXF needed repairs to be read ({len(auditor.errors)} errors, "
                         f"{len(auditor.fixes)} fixes by ezdxf's recover mode); check the drawing")
     if energyplus:
