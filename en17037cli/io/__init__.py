@@ -78,4 +78,4 @@ def read_model(path: Path, options: ReadOptions | None = None) -> Mesh:
 
 def _load_builtin_readers() -> None:
     """Import the reader modules (they register themselves); heavy libraries load only when used."""
-    from en17037cli.io import citygml, cityjson, dxf, ifc, obj, ply, stl, trimesh_formats  # noqa: F401
+    from en17037cli.io import citygml, cityjson, dxf, gbxml, ifc, obj, ply, stl, trimesh_formats  # noqa: F401

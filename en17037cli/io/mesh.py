@@ -71,13 +71,16 @@ class Part:
 
 @dataclass(frozen=True)
 class Space:
-    """A room as the model file defines it (an IfcSpace), in the mesh's frame.
+    """A room as the model file defines it (an IfcSpace, a gbXML Space), in the mesh's frame.
 
     footprint : (k, 2) float [m], outer ring of the space's floor outline (x, y), counterclockwise
     floor_z, top_z : float [m], bottom and top of the space
     windows : GlobalIds (``Part.window`` keys) of the windows that bound it by the file's own
-        space boundaries (IfcRelSpaceBoundary); empty when the file has none
-    zones : names of the zones (IfcZone, IfcSpatialZone) that group it
+        space boundaries (IfcRelSpaceBoundary; gbXML: the exterior glazings on its side); empty
+        when the file has none
+    zones : names of the zones (IfcZone, IfcSpatialZone, gbXML Zone) that group it
+    kind : what the file calls it ("IfcSpace", "gbXML Space"): a project's ``ifc_spaces`` /
+        ``gbxml_spaces`` glob picks spaces of its kind
     """
 
     id: str
@@ -90,6 +93,7 @@ class Space:
     windows: tuple[str, ...] = ()
     zones: tuple[str, ...] = ()
     holes: tuple[np.ndarray, ...] = ()
+    kind: str = "IfcSpace"
 
 
 @dataclass(frozen=True)

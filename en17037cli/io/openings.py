@@ -51,14 +51,16 @@ def plane_basis(ring: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, n
     return c, n[0], u[0], v[0], bool(good[0])
 
 
-def polygon_minus_openings(outer: np.ndarray, openings: list[np.ndarray]) -> tuple[np.ndarray, int]:
+def polygon_minus_openings(outer: np.ndarray, openings: list[np.ndarray],
+                           tolerance: float = PLANE_TOLERANCE_M) -> tuple[np.ndarray, int]:
     """Triangles (t, 3, 3) of a planar polygon with the openings drawn on it cut out, and how many
-    openings were cut (those lying within :data:`PLANE_TOLERANCE_M` of its plane and overlapping it).
+    openings were cut (those lying within ``tolerance`` of its plane and overlapping it).
 
     Parameters
     ----------
     outer : (k, 3) float [m], the host face's ring (not repeated at the end)
     openings : list of (j, 3) float [m] rings drawn on it
+    tolerance : float [m], how far off the host's plane an opening may lie (it is projected onto it)
 
     Returns
     -------
@@ -75,7 +77,7 @@ def polygon_minus_openings(outer: np.ndarray, openings: list[np.ndarray]) -> tup
     cut = 0
     holes = []
     for o in openings:
-        if len(o) < 3 or np.abs((o - c) @ n).max() > PLANE_TOLERANCE_M:
+        if len(o) < 3 or np.abs((o - c) @ n).max() > tolerance:
             continue
         h = shapely.make_valid(shapely.Polygon(to2(o)))
         if h.area > 0 and host.intersects(h) and host.intersection(h).area > 1e-9:
