@@ -193,6 +193,7 @@ def _settings(path: Path, config: dict) -> Project:
         req = Requirements(**{**config["requirements"], **room.get("requirements", {})})
         rooms.append(RoomSpec(
             name=room.get("name", ""), index=i, floor_z=float(room.get("floor_z", 0.0)), ifc_spaces=room.get("ifc_spaces"),
+            gbxml_spaces=room.get("gbxml_spaces"),
             floor=None if "floor" not in room else np.asarray(room["floor"], dtype=float),
             windows=None if "windows" not in room else tuple(room["windows"]),
             ceiling_z=None if "ceiling_z" not in room else float(room["ceiling_z"]),
@@ -215,10 +216,12 @@ def _settings(path: Path, config: dict) -> Project:
 def _check_consistency(path: Path, config: dict) -> None:
     """Rules a JSON Schema cannot express; each raises a one-line :class:`InputError`."""
     for i, r in enumerate(config["rooms"]):
-        if "ifc_spaces" in r:
+        for key in ("ifc_spaces", "gbxml_spaces"):
+            if key not in r:
+                continue
             clash = [k for k in ("name", "floor_z", "floor", "view_points", "sun_points") if k in r]
             if clash:
-                raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with ifc_spaces (one entry stands for every matched "
+                raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with {key} (one entry stands for every matched "
                                  "space, which gives its name and floor); write the room out instead")
     names = [r["name"] for r in config["rooms"] if "name" in r]
     dupes = sorted({n for n in names if names.count(n) > 1})

@@ -114,6 +114,7 @@ class RoomSpec:
     floor_z : [m], in the scene frame; ceiling_z : [m] or None (derived from the model)
     ifc_spaces : a glob on IfcSpace names: the entry stands for one room per matched space (the
         scene makes their specs; ``name`` and ``floor_z`` are then None)
+    gbxml_spaces : the same on the Spaces of a gbXML model
     floor : (k, 2) [m] polygon in the scene frame, or None (derived from the model)
     windows : globs on window names, or None: every window that bounds the room
     window_margin_m : [m], how far beyond the floor's outline a window of the room may lie (the wall)
@@ -132,6 +133,7 @@ class RoomSpec:
     sun_points: np.ndarray | None
     requirements: Requirements
     ifc_spaces: str | None = None
+    gbxml_spaces: str | None = None
 
 
 @dataclass(frozen=True)

@@ -85,7 +85,7 @@ def build_scene(project: Project) -> Scene:
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     check_glazing_over_opaque(local, g.triangles, g.layer, windows, scene.part_label, g.part, where)
     for spec in project.rooms:
-        if spec.ifc_spaces is not None:
+        if spec.ifc_spaces is not None or spec.gbxml_spaces is not None:
             scene.rooms.extend(rooms_from_spaces(scene, spec, f"{where}: rooms[{spec.index}]"))
         else:
             scene.rooms.append(make_room(scene, spec, f"{where}: rooms[{spec.index}] '{spec.name}'"))

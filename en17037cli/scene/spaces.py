@@ -1,4 +1,5 @@
-"""Rooms from the spaces a model defines (IfcSpace): one room per space a project's ``ifc_spaces`` glob picks."""
+"""Rooms from the spaces a model defines (IfcSpace, gbXML Space): one room per space a project's
+``ifc_spaces`` / ``gbxml_spaces`` glob picks, among the spaces of that kind."""
 from __future__ import annotations
 
 import fnmatch
@@ -26,15 +27,17 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     geometrically (:func:`~en17037cli.scene.rooms.bounds_room`). A space with no window is left out
     of the check, with a note (``validate`` lists it).
     """
-    glob = spec.ifc_spaces or "*"
-    if not scene.spaces:
-        raise InputError(f"{where}.ifc_spaces: the model has no IfcSpace; list the rooms with name and floor_z instead")
-    picked = [(d, s) for d, s in scene.spaces
+    key, kind = ("gbxml_spaces", "gbXML Space") if spec.gbxml_spaces is not None else ("ifc_spaces", "IfcSpace")
+    glob = getattr(spec, key) or "*"
+    spaces = [(d, s) for d, s in scene.spaces if s.kind == kind]
+    if not spaces:
+        raise InputError(f"{where}.{key}: the model has no {kind}; list the rooms with name and floor_z instead")
+    picked = [(d, s) for d, s in spaces
               if any(fnmatch.fnmatchcase(v, glob) for v in (s.name, s.long_name, s.id, room_name(s)) if v)]
     if not picked:
-        known = ", ".join(room_name(s) for _, s in scene.spaces[:8])
-        raise InputError(f"{where}.ifc_spaces: '{glob}' matches no IfcSpace; spaces: {known}")
-    with_boundaries = {d for d, s in scene.spaces if s.windows}
+        known = ", ".join(room_name(s) for _, s in spaces[:8])
+        raise InputError(f"{where}.{key}: '{glob}' matches no {kind}; spaces: {known}")
+    with_boundaries = {d for d, s in spaces if s.windows}
     rooms = []
     for display, space in sorted(picked, key=lambda ds: (ds[1].floor_z, room_name(ds[1]))):  # storey by storey
         name = room_name(space)
@@ -43,9 +46,9 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
         keys = set(space.windows) if display in with_boundaries else None
         room = make_room(scene, room_spec, f"{where} '{name}'", keys=keys)
         room.zones, room.storey = space.zones, space.storey
-        room.floor_source, room.ceiling_source = "the IfcSpace's footprint", "the IfcSpace's top"
+        room.floor_source, room.ceiling_source = f"the {kind}'s footprint", f"the {kind}'s top"
         if room.problem and not room.windows:
-            scene.notes.append(f"IfcSpace '{name}': {room.problem}; left out of the check")
+            scene.notes.append(f"{kind} '{name}': {room.problem}; left out of the check")
             scene.left_out.append(name)
             continue
         rooms.append(room)
