@@ -44,8 +44,9 @@ import numpy as np
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangulate_polygons
 from en17037cli.io import ReadOptions, register
+from en17037cli.io.cityjson.semantics import counted
 from en17037cli.io.gbxml.parse import Document, read_document
-from en17037cli.io.gbxml.sides import glazing_sides
+from en17037cli.io.gbxml.sides import glazing_sides, points_in_shells
 from en17037cli.io.mesh import Mesh, Part, Site, Space
 from en17037cli.io.openings import plane_basis, polygon_minus_openings
 
@@ -81,17 +82,23 @@ def _triangles(loops: list[np.ndarray]) -> list[np.ndarray]:
 
 
 def _footprint(shell_tris: np.ndarray):
-    """(outer ring (k, 2), holes, z0, z1) of a shell's bottom: its horizontal faces at its lowest level, unioned."""
+    """(outer ring (k, 2), holes, z0, z1) of a shell's floor: the faces not steeper than 60 deg with the
+    space's inside 5 cm above their centroid (ray parity), projected and unioned, at their lowest
+    point (a raked floor's lowest point; a stepped floor's lowest step)."""
     import shapely
 
     if len(shell_tris) == 0:
         return None
-    z0, z1 = float(shell_tris[..., 2].min()), float(shell_tris[..., 2].max())
+    z1 = float(shell_tris[..., 2].max())
     n = np.cross(shell_tris[:, 1] - shell_tris[:, 0], shell_tris[:, 2] - shell_tris[:, 0])
     norm = np.linalg.norm(n, axis=1)
-    flat = (np.abs(n[:, 2]) > 0.99 * np.maximum(norm, 1e-30)) & (norm > 0) & np.all(np.abs(shell_tris[..., 2] - z0) < 0.01, axis=1)
+    gentle = (np.abs(n[:, 2]) > 0.5 * norm) & (norm > 0)
+    above = shell_tris[gentle].mean(axis=1) + [0.0, 0.0, 0.05]
+    flat = np.zeros(len(shell_tris), dtype=bool)
+    flat[np.flatnonzero(gentle)] = points_in_shells(above, [shell_tris])[:, 0]
     if not flat.any():
         return None
+    z0 = float(shell_tris[flat][..., 2].min())
     plan = shapely.union_all(shapely.make_valid(shapely.polygons(shell_tris[flat][..., :2])))
     polys = [g for g in getattr(plan, "geoms", [plan]) if g.geom_type == "Polygon" and g.area > 0]
     if not polys:
@@ -177,7 +184,7 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
         if verdict[o.id][0] == "interior" and file_says_exterior:
             reclassified.append(f"{o.name} (on {srf.kind} {srf.name}: a space on both sides, interior glazing)")
         if verdict[o.id][0] == "interior":
-            a, c = verdict[o.id][1]
+            a, c = sorted(verdict[o.id][1])
             interior.append(f"{o.name} ({doc.spaces[a].name} | {doc.spaces[c].name})")
 
     b = _Builder()
@@ -218,9 +225,10 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
     glz = sum(1 for v in verdict.values() if v[0] == "exterior")
     surf_counts = ", ".join(f"{k} {n}" for k, n in counts.items() if k not in GLAZED and k not in ("NonSlidingDoor", "Air"))
     open_counts = ", ".join(f"{k} {n}" for k, n in counts.items() if k in GLAZED or k == "NonSlidingDoor")
-    summary = (f"gbXML {doc.version} in {doc.unit}: {len(doc.spaces)} spaces, {len(surfaces)} surfaces ({surf_counts}), "
-               f"openings: {open_counts or 'none'}; {glz} exterior windows ({sum('interior glazing)' not in r for r in reclassified)} "
-               f"reclassified from their surface's type), {len(interior)} interior glazings; left out: Air surfaces and openings "
+    summary = (f"gbXML {doc.version} in {doc.unit}: {counted(len(doc.spaces), 'space')}, {counted(len(surfaces), 'surface')} "
+               f"({surf_counts}), "
+               f"openings: {open_counts or 'none'}; {counted(glz, 'exterior window')} ({sum('interior glazing)' not in r for r in reclassified)} "
+               f"reclassified from their surface's type), {counted(len(interior), 'interior glazing')}; left out: Air surfaces and openings "
                f"({counts.get('Air', 0)}){f', {n_no_geometry} surfaces without PlanarGeometry' if n_no_geometry else ''}")
     return Mesh(verts, tris, part, b.parts, warnings, notes, units="m", up_axis="z", site=site, spaces=spaces, summary=summary)
 
