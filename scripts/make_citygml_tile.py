@@ -58,8 +58,8 @@ def building(k: int, rng: np.random.Generator, side: int) -> str:
     flat = [(x, y, z0 + h) for x, y, _ in g]
     lod1 = [ground, flat] + [[g[i], g[(i + 1) % 4], flat[(i + 1) % 4], flat[i]] for i in range(4)]
     out = [f'<cityObjectMember><bldg:Building gml:id="{bid}"><gml:name>{bid}</gml:name>',
-           f'<gen:stringAttribute name="Gemeindeschluessel"><gen:value>11000000</gen:value></gen:stringAttribute>',
-           f"<bldg:function>31001_1000</bldg:function><bldg:roofType>3100</bldg:roofType>",
+           '<gen:stringAttribute name="Gemeindeschluessel"><gen:value>11000000</gen:value></gen:stringAttribute>',
+           "<bldg:function>31001_1000</bldg:function><bldg:roofType>3100</bldg:roofType>",
            f'<bldg:measuredHeight uom="urn:adv:uom:m">{h + ridge:.3f}</bldg:measuredHeight>',
            f'<bldg:lod1Solid><gml:Solid srsName="{SRS}" srsDimension="3"><gml:exterior><gml:CompositeSurface>',
            *(_poly(r, f"{bid}_l1_{i}") for i, r in enumerate(lod1)),

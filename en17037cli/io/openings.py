@@ -142,7 +142,7 @@ def cut_openings(vertices: np.ndarray, triangles: np.ndarray, part: np.ndarray, 
         _, u, v, _ = plane_bases(n[None])
         u, v = u[0], v[0]
         origin = n * d
-        to2 = lambda p: np.stack([(p - origin) @ u, (p - origin) @ v], axis=-1)  # noqa: E731
+        to2 = lambda p, o=origin, u=u, v=v: np.stack([(p - o) @ u, (p - o) @ v], axis=-1)  # noqa: E731
         glass = shapely.union_all(shapely.make_valid(shapely.polygons(to2(wt[rows]))))
         faces = shapely.make_valid(shapely.polygons(to2(ot[near])))
         overlap = shapely.area(shapely.intersection(faces, glass))

@@ -323,7 +323,7 @@ def test_real_berlin_tile():
     assert "40 objects" in m.summary and "Building LoD 2: 40" in m.summary
     assert {q.attrs["class"] for q in m.parts} == {"Building"} and len(m.parts) == 120
     expected = _newell_areas(BERLIN)
-    for kind, (n, a) in expected.items():
+    for kind, (_n, a) in expected.items():
         # triangles cover each polygon's area: ear clipping loses none (1e-6 relative: float64 sums of ~1e3 m² terms)
         assert abs(part_area(m, surface=kind) - a) < 1e-6 * a, kind
     assert expected["WallSurface"][0] >= 1102 and expected["RoofSurface"][0] >= 652  # the README's counts
