@@ -90,11 +90,11 @@ class _Collector:
             self.n_fallback += bool(fallback)
             chosen_polys = [p for p in o.polys if (p[0], 0) == chosen]
             placed = [(surface, solid, rings, self._place(srs, tokens)) for _, surface, solid, srs, rings, tokens in chosen_polys]
+            label = lod_label(chosen)
+            self.by_lod[(o.cls, label)] = self.by_lod.get((o.cls, label), 0) + 1
             if self.options.near is not None and self._far(np.concatenate([v for *_, v in placed])):
                 self.n_far += 1
                 continue
-            label = lod_label(chosen)
-            self.by_lod[(o.cls, label)] = self.by_lod.get((o.cls, label), 0) + 1
             if default_layer(o.cls, None, False)[1] is False:
                 self.unknown[o.cls] = self.unknown.get(o.cls, 0) + 1
             for surface, solid, rings, v in placed:
@@ -250,7 +250,8 @@ def read_citygml(path: Path, options: ReadOptions | None = None) -> Mesh:
     site = (Site(crs=crs_name, source=f"{path.name}: srsName" + (f", projected from {', '.join(src)}" if src else ""),
                  reprojected_from=", ".join(src) or None) if crs_name and crs_name.startswith("EPSG:") else None)
     lods = ", ".join(f"{cls} LoD {lod}: {n}" for (cls, lod), n in sorted(c.by_lod.items()))
-    summary = f"{counted(n_members, 'city object member')}, {counted(c.n_objects, 'object')}; with surfaces, by class and LoD read: {lods or 'none'}"
+    summary = (f"{counted(n_members, 'city object member')}, {counted(c.n_objects, 'object')}; with surfaces, by class and "
+               f"LoD read: {lods or 'none'}; {counted(len(tris), 'triangle')} kept")
     return Mesh(v, tris, part, parts, warnings, notes, units="m", up_axis="z", site=site, summary=summary)
 
 
