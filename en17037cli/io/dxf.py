@@ -9,8 +9,9 @@ Faces of more than three vertices are ear-clipped. Everything else (lines, 2D po
 hatches, ``3DSOLID`` / ``REGION`` / ``SURFACE``, whose ACIS bodies ezdxf cannot tessellate) is
 left out and counted by type in a note; a drawing with no 3D face at all is an input error.
 
-Units: ``$INSUNITS`` of the header (inches, feet, mm, cm, m, and the others ezdxf knows: the
-vertices are scaled to metres here); unitless (0) or no header: the project's ``units``.
+Units: ``$INSUNITS`` of the header: inches, feet, mm, cm and m are the file's units (a ``units``
+key on the file entry still wins); the others ezdxf knows (km, yards, miles...) are scaled to
+metres here; unitless (0) or no header: the project's ``units``.
 
 Parts: one :class:`~en17037cli.io.mesh.Part` per (layer, entity type, colour, block):
 
@@ -50,6 +51,8 @@ from en17037cli.io.mesh import Mesh, Part
 ENERGYPLUS_COLOURS = {143: "window", 43: "interior", 45: "interior", 8: "interior", 15: "interior", 13: "interior",
                       174: "interior", 195: "landscape", 9: "landscape"}
 FACE_TYPES = ("3DFACE", "POLYLINE", "MESH")
+#: $INSUNITS codes of the units the project knows: the file's units (its ``units`` key still wins)
+INSUNITS = {1: "in", 2: "ft", 4: "mm", 5: "cm", 6: "m"}
 ACIS_TYPES = ("3DSOLID", "REGION", "SURFACE", "BODY", "EXTRUDEDSURFACE", "LOFTEDSURFACE", "REVOLVEDSURFACE",
               "SWEPTSURFACE", "PLANESURFACE")
 MAX_BLOCK_DEPTH = 16
@@ -224,9 +227,9 @@ def read_dxf(path: Path, options: ReadOptions | None = None) -> Mesh:
     Returns
     -------
     Mesh
-        ``vertices`` (n, 3) float64 in metres when ``$INSUNITS`` names a unit (``units="m"``), else
-        in the drawing's units (``units=None``: the project's); z up (the DXF world frame); one
-        part per (layer, entity type, colour, block); ``openings_drawn=True``.
+        ``vertices`` (n, 3) float64 in the drawing's units, ``units`` from ``$INSUNITS`` (None when
+        unitless: the project's); z up (the DXF world frame); one part per (layer, entity type,
+        colour, block); ``openings_drawn=True``.
 
     Raises
     ------
@@ -257,7 +260,10 @@ def read_dxf(path: Path, options: ReadOptions | None = None) -> Mesh:
     notes, warnings = [], []
     insunits = int(doc.header.get("$INSUNITS", 0) or 0)
     units = None
-    if insunits:
+    if insunits in INSUNITS:  # the project's units key for this file still wins (the scene scales)
+        units = INSUNITS[insunits]
+        notes.append(f"{path.name}: $INSUNITS {insunits} ({dxf_units.unit_name(insunits)}): drawing units {units}")
+    elif insunits:
         try:
             factor = dxf_units.conversion_factor(insunits, dxf_units.M)
         except (KeyError, ValueError, ZeroDivisionError):

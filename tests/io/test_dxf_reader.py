@@ -113,7 +113,8 @@ def test_polyface_polymesh_mesh_and_inserted_blocks_with_transforms(tmp_path):
     p = tmp_path / "parts.dxf"
     doc.saveas(p)
     m = read_model(p)
-    assert m.units == "m" and m.up_axis == "z" and m.openings_drawn
+    assert m.units == "mm" and m.up_axis == "z" and m.openings_drawn
+    m.vertices = m.vertices / 1000.0  # the scene scales by the units; here by hand
 
     def of(layer):
         return np.isin(m.part, [i for i, q in enumerate(m.parts) if q.attrs["group"] == layer])
@@ -129,7 +130,7 @@ def test_polyface_polymesh_mesh_and_inserted_blocks_with_transforms(tmp_path):
     assert tree_parts == [{"group": "trees", "class": "3DFACE", "colour": "7", "type": "TREE"}]  # the block they are drawn in
     assert {q.attrs["class"] for q in m.parts} == {"POLYFACE", "POLYMESH", "MESH", "3DFACE"}
     assert any("LINE: 1" in n and "TEXT: 1" in n for n in m.notes)
-    assert any("$INSUNITS 4 (Millimeters): scaled by 0.001 to metres" in n for n in m.notes)
+    assert any("$INSUNITS 4 (Millimeters): drawing units mm" in n for n in m.notes)
     assert "on 4 layers" in m.summary and "left out: LINE: 1, TEXT: 1" in m.summary
 
 

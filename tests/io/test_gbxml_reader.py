@@ -225,3 +225,12 @@ def test_real_revit_gbxml_project(tmp_path):
     south = rooms["14 Dining Room"]["sunlight"]["hours"]  # windows facing due south (azimuth 180), 42.2 N on 1 February
     east = rooms["19 Bath"]["sunlight"]["hours"]  # one window facing due east
     assert south > 7.0 and 1.5 < east < 5.0
+
+
+def test_spaces_sharing_a_name_become_rooms_named_with_their_ids(tmp_path):
+    from en17037cli.scene.spaces import room_name
+
+    shells = [box_shell(0, 4, 0, 4, 0, 3), box_shell(4, 8, 0, 4, 0, 3)]
+    surfs = [surface("f", "SlabOnGrade", [(0, 0, 0), (8, 0, 0), (8, 4, 0), (0, 4, 0)], ("a", "b"))]
+    m = read_gbxml(write(tmp_path, document([space("a", "Office", shells[0]), space("b", "Office", shells[1])], surfs)))
+    assert sorted(room_name(s) for s in m.spaces) == ["Office (a)", "Office (b)"]

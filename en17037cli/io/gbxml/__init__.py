@@ -25,7 +25,7 @@ windows reclassified are listed in notes. ``SlidingDoor`` is glazed as OpenStudi
 takes it (a glass door).
 
 Spaces (``Space``) become :class:`~en17037cli.io.mesh.Space` (``kind`` "gbXML Space", for a
-project's ``gbxml_spaces`` glob): `name` its ``Name``, `storey` its ``BuildingStorey`` Name,
+project's ``gbxml_spaces`` glob): `name` its ``Name`` (``Name (id)`` where spaces share a Name), `storey` its ``BuildingStorey`` Name,
 `zones` its ``Zone`` Name; the footprint from the downward faces at the bottom of its
 ``ShellGeometry`` (else its ``PlanarGeometry``, else its floor surfaces), ``floor_z`` / ``top_z``
 the shell's lowest and highest points; `windows` the ids of the exterior glazings whose inner
@@ -240,6 +240,9 @@ def _spaces(doc: Document, shells, surfaces, verdict) -> tuple[list[Space], list
         if kind == "exterior" and where >= 0:
             hints.setdefault(where, []).append(oid)
     out, no_floor = [], []
+    seen: dict = {}
+    for s in doc.spaces:
+        seen[s.name] = seen.get(s.name, 0) + 1
     for i, s in enumerate(doc.spaces):
         fp = _footprint(shells[i])
         if fp is None and s.planar:
@@ -254,7 +257,9 @@ def _spaces(doc: Document, shells, surfaces, verdict) -> tuple[list[Space], list
         ring, holes, z0, z1 = fp
         if len(shells[i]):
             z1 = float(shells[i][..., 2].max())
-        out.append(Space(id=s.id, name=s.name, long_name="", storey=doc.storeys.get(s.storey, ""), footprint=ring,
+        # a Name shared by several spaces: the room is "Name (id)" (room_name's 'LongName (Name)')
+        name, long_name = (s.id, s.name) if seen[s.name] > 1 else (s.name, "")
+        out.append(Space(id=s.id, name=name, long_name=long_name, storey=doc.storeys.get(s.storey, ""), footprint=ring,
                          floor_z=z0, top_z=z1, windows=tuple(sorted(hints.get(i, ()))),
                          zones=tuple(z for z in (doc.zones.get(s.zone),) if z), holes=holes, kind=SPACE_KIND))
     return out, no_floor
