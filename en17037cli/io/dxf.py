@@ -236,10 +236,10 @@ def read_dxf(path: Path, options: ReadOptions | None = None) -> Mesh:
     InputError
         Not a DXF file, a broken one, or one with no 3D face in its model space.
     """
-    from ezdxf import units as dxf_units
-
     path = Path(path)
     doc, auditor, head = _open(path)
+    from ezdxf import units as dxf_units
+
     energyplus = "DXF created from EnergyPlus" in head
     scheme_default = "Color Scheme,Default" in head or "Color Scheme" not in head
     faces = _Faces()
