@@ -40,8 +40,9 @@ def grid_points(utilised, spacing_m: float, offset: float = 0.0) -> np.ndarray:
     point surely inside it) is used. The count of lines and the points kept do not change under
     a change of the outline smaller than :func:`grid_tolerance` (:func:`grid_lines`; points within a
     quarter of it of the outline are outside, and the rectangle's own sides keep the lines half of
-    it away), so a floor given and the same floor derived from the model give the same grid. Points are ordered by x, then y, each rounded to a power of ten above ten times
-    that tolerance (the order too does not depend on the last bits of the outline).
+    it away), so a floor given and the same floor derived from the model give the same grid. Points are ordered along the rectangle's axes taken in a canonical way
+    (:func:`canonical_axes`), by their grid indices, so the order too does not depend on the
+    last bits of the outline.
 
     Parameters
     ----------
@@ -74,9 +75,28 @@ def grid_points(utilised, spacing_m: float, offset: float = 0.0) -> np.ndarray:
         c = utilised.centroid
         p = c if utilised.contains(c) else utilised.representative_point()
         pts = np.array([[p.x, p.y]])
-    q = 10.0 ** np.ceil(np.log10(10 * tol))
-    order = np.lexsort((np.round(pts[:, 1] / q), np.round(pts[:, 0] / q)))
-    return pts[order]
+    u, v = canonical_axes(e1, e2, l1, l2, tol)
+    rel = pts - centre
+    # twice the index along each axis: an integer (grid points sit at whole or half spacings from the centre)
+    iu, iv = (np.round(2.0 * (rel @ ax) / spacing_m) for ax in (u, v))
+    return pts[np.lexsort((iv, iu))]
+
+
+def canonical_axes(e1: np.ndarray, e2: np.ndarray, l1: float, l2: float, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """The axes of a rectangle (unit sides ``e1``, ``e2`` of lengths ``l1``, ``l2`` [m]) taken the same
+    way whichever corner the rectangle starts at: ``u`` along the longer side (the one nearer the
+    x axis where they are within ``tol`` [m] of each other), pointing at an azimuth in [-45, 135)
+    deg; ``v`` a quarter turn counterclockwise from it. The choice changes only for a side at
+    45 deg (the nearer-axis tie) or at -45 / 135 deg (the direction's), not for the common
+    axis-aligned rooms."""
+    if abs(l1 - l2) > tol:
+        u = e1 if l1 > l2 else e2
+    else:
+        u = e1 if abs(e1[0]) >= abs(e2[0]) else e2
+    ang = np.degrees(np.arctan2(u[1], u[0]))
+    if not -45.0 <= ang < 135.0:
+        u = -u
+    return u, np.array([-u[1], u[0]])
 
 
 def viewpoints(scene: Scene, room: Room, settings: ViewSettings) -> tuple[list, list]:
