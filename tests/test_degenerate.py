@@ -25,6 +25,7 @@ from hypothesis import strategies as st
 from en17037cli.criteria.view.frames import room_geometry
 from en17037cli.criteria.view.sight_angle import horizontal
 from en17037cli.criteria.view.viewpoints import viewpoints
+from en17037cli.samples import BoxRoom
 from en17037cli.samples.box import _rect_x, _rect_y, _rect_z, write_obj
 
 #: The issue's bound on a viewpoint on a face line [deg]. Both sides are float64 plan geometry on a
@@ -40,7 +41,8 @@ class Flat:
     """Two rooms on round coordinates, in plan: the living room x 0..6, y 0..4 with a window in its
     south wall (opening x a..b, z 0.9..2.1, wall y -t..0, glazing in the middle of the wall), a
     partition y 4..4.1 with a door x d0..d1 behind the viewer, a bedroom beyond; a building across
-    the street. ``mullion``: x of a 5 cm mullion 2 cm inside the glazing, or None."""
+    the street. ``mullion``: x of a 5 cm mullion 2 cm inside the glazing, or None. ``frame``: width
+    of a frame around the glass in its plane [m]; the opening is that much larger all round."""
 
     a: float = 1.0
     b: float = 5.0
@@ -48,11 +50,18 @@ class Flat:
     d1: float = 1.5
     t: float = 0.2
     mullion: float | None = None
+    frame: float = 0.0
+
+    def opening(self):
+        """The opening in the wall: x and z ranges [m]."""
+        f = self.frame
+        return (self.a - f, self.b + f), (0.9 - f, 2.1 + f)
 
     def walls(self) -> list[tuple[tuple, tuple, str]]:
         """Plan segments at eye height (both eye heights cut the same ones): (start, end, kind),
         kind 'interior' or 'landscape'; the glazing is :meth:`glazing`."""
-        a, b, d0, d1, t = self.a, self.b, self.d0, self.d1, self.t
+        d0, d1, t = self.d0, self.d1, self.t
+        (a, b), _ = self.opening()
         p2 = PARTITION + 0.1
         segs = [((0, 0), (a, 0)), ((b, 0), (6, 0)), ((0, -t), (a, -t)), ((b, -t), (6, -t)),  # south wall faces
                 ((a, -t), (a, 0)), ((b, -t), (b, 0)),  # reveals
@@ -60,6 +69,8 @@ class Flat:
                 ((0, PARTITION), (d0, PARTITION)), ((d1, PARTITION), (6, PARTITION)), ((0, p2), (d0, p2)), ((d1, p2), (6, p2)),
                 ((d0, PARTITION), (d0, p2)), ((d1, PARTITION), (d1, p2)),  # door jambs
                 ((0, p2), (0, BACK)), ((6, p2), (6, BACK)), ((0, BACK), (6, BACK))]
+        if self.frame > 0:  # the frame's sides, in the glazing's line
+            segs += [((a, -t / 2), (self.a, -t / 2)), ((self.b, -t / 2), (b, -t / 2))]
         out = [(s, e, "interior") for s, e in segs]
         if self.mullion is not None:
             y = -t / 2 + 0.02
@@ -72,8 +83,9 @@ class Flat:
 
     def objects(self) -> dict:
         """The model's polygons per object (room, glazing, ground, building), in 3D."""
-        a, b, d0, d1, t = self.a, self.b, self.d0, self.d1, self.t
-        z0, z1, p2 = 0.9, 2.1, PARTITION + 0.1
+        d0, d1, t = self.d0, self.d1, self.t
+        (a, b), (z0, z1) = self.opening()
+        p2 = PARTITION + 0.1
 
         def holed(y, x0, x1, hx0, hx1, hz0, hz1):
             return [_rect_y(y, x0, hx0, 0, H), _rect_y(y, hx1, x1, 0, H), _rect_y(y, hx0, hx1, 0, hz0), _rect_y(y, hx0, hx1, hz1, H)]
@@ -88,8 +100,12 @@ class Flat:
                  _rect_y(BACK, 0, 6, 0, H)]
         if self.mullion is not None:
             y = -t / 2 + 0.02
-            room.append(_rect_y(y, self.mullion - 0.025, self.mullion + 0.025, z0 - 0.05, z1 + 0.05))
-        return {"room": room, "glazing": [_rect_y(-t / 2, a, b, z0, z1)], "ground": [_rect_z(0.0, -50, 50, -50, -t)],
+            room.append(_rect_y(y, self.mullion - 0.025, self.mullion + 0.025, 0.85, 2.15))
+        if self.frame > 0:
+            y = -t / 2
+            room += [_rect_y(y, a, self.a, z0, z1), _rect_y(y, self.b, b, z0, z1), _rect_y(y, self.a, self.b, z0, 0.9),
+                     _rect_y(y, self.a, self.b, 2.1, z1)]
+        return {"room": room, "glazing": [_rect_y(-t / 2, self.a, self.b, 0.9, 2.1)], "ground": [_rect_z(0.0, -50, 50, -50, -t)],
                 "building": [_rect_y(-30, -20, 26, 0, 8)]}
 
 
@@ -100,7 +116,7 @@ def turn_xy(xy, deg: float, offset=(0.0, 0.0)):
     return np.column_stack([c * xy[:, 0] - s * xy[:, 1] + offset[0], s * xy[:, 0] + c * xy[:, 1] + offset[1]])
 
 
-def flat_project(directory, flat: Flat, rotate_deg=0.0, offset=(0.0, 0.0, 0.0), given_floor=True, spacing=0.5):
+def flat_project(directory, flat: Flat, rotate_deg=0.0, offset=(0.0, 0.0, 0.0), given_floor=True, spacing=0.5, sunlight=None):
     """Write the flat turned and moved, with the living room given by its floor (or by name only)."""
     directory.mkdir(parents=True, exist_ok=True)
     write_obj(directory / "flat.obj", flat.objects(), offset=offset, rotate_deg=rotate_deg)
@@ -112,6 +128,9 @@ def flat_project(directory, flat: Flat, rotate_deg=0.0, offset=(0.0, 0.0, 0.0), 
         {"match": "ground", "layer": "ground"}, {"match": "building", "layer": "landscape"}]}]},
         "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"}, "rooms": [room],
         "view": {"grid_spacing_m": spacing}, "requirements": {"view": "minimum", "sunlight": "none"}}
+    if sunlight is not None:
+        project["sunlight"] = sunlight
+        project["requirements"]["sunlight"] = "minimum"
     path = directory / "project.yaml"
     path.write_text(yaml.safe_dump(project, sort_keys=False))
     return path
@@ -159,7 +178,7 @@ def engine_sight_angle_deg(b: Built, pts_world) -> np.ndarray:
 def on_lines(flat: Flat, spacing=0.5):
     """Viewpoints (x, y) in the living room on the lines of its faces seen edge-on (the reveals', the
     door jambs', the mullion's ends) and on grid lines, at every grid row."""
-    xs = sorted({flat.a, flat.b, flat.d0, flat.d1, *np.arange(spacing, 6, spacing)}
+    xs = sorted({flat.a, flat.b, *flat.opening()[0], flat.d0, flat.d1, *np.arange(spacing, 6, spacing)}
                 | ({flat.mullion - 0.025, flat.mullion + 0.025} if flat.mullion is not None else set()))
     ys = np.arange(spacing, PARTITION, spacing)
     return [(x, y) for x in xs for y in ys if 0 < x < 6]
@@ -221,7 +240,8 @@ def degenerate_cases(draw):
     d0 = draw(st.sampled_from(np.arange(0.3, 4.0, 0.3).round(1).tolist()))
     d1 = round(d0 + draw(st.sampled_from([0.8, 0.9, 1.0])), 1)
     mullion = draw(st.one_of(st.none(), st.sampled_from([round((a + b) / 2, 2), a + 0.5])))
-    flat = Flat(a=a, b=b, d0=d0, d1=d1, t=draw(st.sampled_from([0.1, 0.2, 0.3])), mullion=mullion)
+    flat = Flat(a=a, b=b, d0=d0, d1=d1, t=draw(st.sampled_from([0.1, 0.2, 0.3])), mullion=mullion,
+                frame=draw(st.sampled_from([0.0, 0.0, 0.02, 0.05])))
     rot = draw(st.sampled_from([0.0, 90.0, 180.0, 270.0, 30.0, 45.0]))
     off = draw(st.sampled_from([(0.0, 0.0, 0.0), (100.0, 200.0, 0.0), (85000.0, 446000.0, 3.0)]))
     lines = on_lines(flat)
@@ -308,3 +328,88 @@ def test_the_grid_does_not_move_with_a_micron_of_the_outline(kind, nw, nh, spaci
     assert near.max() <= 1e-5 * size  # the same points
     if rot % 90 != 45:  # and in the same order, but for a side at 45 deg (canonical_axes' documented tie)
         assert np.abs(exact - moved).max() <= 1e-5 * size
+
+
+def test_solid_angles_from_the_planes_of_the_reveals(build):
+    """Rays along a face: viewpoints on the planes of the box room's jambs (x = +-1), sill (z = 0.8)
+    and head (z = 2.2), and a hair off them. The part of the glazing seen is the glazing (y = 0)
+    within the inner opening (y = t) projected from the point onto the glazing's plane, a rectangle;
+    its sky, landscape and ground come from the closed forms of tests/oracles.py. Each layer is
+    within the engine's own estimate of it (plus the closed forms' round-off)."""
+    from oracles import layer_solid_angles
+
+    t = 0.3
+    b = build(BoxRoom(wall_thickness=t))
+    pts = np.array([(x + dx, y, z) for x in (-1.0, 1.0) for dx in (0.0, 1e-12, -1e-9, 1e-6)
+                    for y in (t + 1.0, t + 2.5) for z in (0.8, 1.2, 2.2)])
+    r = b.view_points(pts)
+    for i, (x0, y0, z0) in enumerate(pts):
+        k = y0 / (y0 - t)  # the inner opening's scale, projected from the point onto y = 0
+        xs = (max(-1.0, x0 + (-1.0 - x0) * k), min(1.0, x0 + (1.0 - x0) * k))
+        zs = (max(0.8, z0 + (0.8 - z0) * k), min(2.2, z0 + (2.2 - z0) * k))
+        for key, exact in zip(("sky", "landscape", "ground"), layer_solid_angles((x0, y0, z0), xs, zs)):
+            assert abs(r.solid.sr[key][i] - exact) <= r.solid.err_sr[key][i] + 1e-9, (pts[i], key, r.solid.sr[key][i], exact)
+
+
+@pytest.mark.parametrize("frame", [0.0, 0.02, 0.02 + 1e-9, 0.02 - 1e-9, 0.12, 0.12 - 1e-12])
+@pytest.mark.parametrize("rot, off", [(0.0, (0.0, 0.0, 0.0)), (180.0, (0.0, 0.0, 0.0)), (270.0, (85000.0, 446000.0, 3.0))])
+def test_point_p_when_a_probe_runs_in_the_plane_of_a_reveal(tmp_path, frame, rot, off):
+    """Point P (EN 17037 A.3) of the flat's window set in the middle of a 0.2 m wall, in a frame
+    whose width is one of the reveal probes' offsets beyond the glass (2 and 12 cm: that probe runs
+    in the plane of the opening's reveal), or a hair either side: P lies on the wall's inner face
+    (0.1 m behind the glazing), at the glass's horizontal centre, max(floor + 1.2, sill + 0.3) high."""
+    from en17037cli.criteria.sunlight.point_p import point_p
+
+    flat = Flat(frame=frame)
+    b = Built(flat_project(tmp_path / "p", flat, rot, off, sunlight={"date": "worst"}))
+    try:
+        p, depth, _notes = point_p(b.engine, b.scene, b.room, b.room.windows[0], b.sun_cfg)
+    finally:
+        b.engine.close()
+    want = np.r_[turn_xy([(0.5 * (flat.a + flat.b), 0.0)], rot, off)[0], off[2] + 1.2]
+    assert abs(depth - 0.1) < 1e-6
+    assert np.abs(b.scene.to_world(p) - want).max() < 1e-6, (b.scene.to_world(p), want)
+
+
+
+@pytest.mark.parametrize("turn_deg", [-35.0, -35.0 + 1e-9, 145.0])
+def test_sun_passing_through_the_window_plane(tmp_path, turn_deg):
+    """The box room turned so its window faces azimuth 215 deg (and, 180 deg on, 35 deg): on 1 March
+    at 52 N the sun crosses the window's plane in the morning (or the evening) high above the
+    minimum altitude, where the direction to the sun lies in the glazing's plane. The exact
+    method's hours against the brute force of tests/test_sunlight_exact.py (pvlib's sun every
+    second, each change bisected to 1 ms), in the room's own frame."""
+    from conftest import Built
+    from oracles import local_midnight, sun_position, sun_vectors
+    from test_sunlight_exact import DAY_S, LAT, LON, MIN_ALT, TOLERANCE_S, through_window
+
+    from en17037cli.samples import box_room_project
+
+    date = "03-01"
+    sun = {"date": date, "period": {"start": date, "end": date}, "min_altitude_deg": MIN_ALT, "tolerance_s": TOLERANCE_S}
+    path = box_room_project(tmp_path / "p", BoxRoom(building_height=0), sunlight=sun, view=None, rotate_deg=turn_deg,
+                            true_north_deg=0.0, location={"latitude": LAT, "longitude": LON, "timezone": "UTC"})
+    b = Built(path)
+    try:
+        r = b.sunlight()
+    finally:
+        b.engine.close()
+    c, s = np.cos(np.radians(-turn_deg)), np.sin(np.radians(-turn_deg))
+
+    def seen(t):
+        e, a = sun_position(t, LAT, LON, refraction=True)
+        v = sun_vectors(e, a)
+        return through_window(e, np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]]))
+
+    t = local_midnight(date) + np.arange(0, 86400, 1.0)
+    state = seen(t)
+    i = np.flatnonzero(state[1:] != state[:-1])
+    lo, hi, s_lo = t[i], t[i + 1], state[i]
+    while len(lo) and np.max(hi - lo) > 1e-3:
+        mid = 0.5 * (lo + hi)
+        same = seen(mid) == s_lo
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+    cuts = np.concatenate([[t[0]], 0.5 * (lo + hi), [t[-1]]])
+    truth = float(np.sum(np.diff(cuts)[np.concatenate([[state[0]], ~s_lo])])) / 3600.0
+    assert truth > 0.3  # the sun is seen for a while before or after it crosses the plane
+    assert abs(r.hours[0] - truth) * 3600 <= DAY_S, (r.hours[0], truth)
