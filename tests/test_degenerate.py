@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 import yaml
 from conftest import Built
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from en17037cli.criteria.view.frames import room_geometry
@@ -263,6 +263,7 @@ def degenerate_cases(draw):
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(degenerate_cases())
+@example((Flat(), 270.0, (0.0, 0.0, 0.0), [(0.6, 2.0), (1.5, 1.0), (1.5, 3.5), (1.0 + 1e-12, 2.5)]))  # 0 deg before the fix
 def test_degenerate_viewpoints_property(tmp_path_factory, case):
     flat, rot, off, pts = case
     if not pts:
@@ -413,3 +414,37 @@ def test_sun_passing_through_the_window_plane(tmp_path, turn_deg):
     truth = float(np.sum(np.diff(cuts)[np.concatenate([[state[0]], ~s_lo])])) / 3600.0
     assert truth > 0.3  # the sun is seen for a while before or after it crosses the plane
     assert abs(r.hours[0] - truth) * 3600 <= DAY_S, (r.hours[0], truth)
+
+
+@pytest.mark.parametrize("dx", [0.0, 1e-9, -1e-9])
+def test_obstructions_seen_edge_on_from_p_hide_no_sun(tmp_path, dx):
+    """Faces whose plane passes through point P (a plate at P's height with an edge on the line through
+    P, and a fin in the vertical plane through P, 1 to 5 m out), or a hair off it: seen edge-on (or
+    within 1e-9 m of it) they hide no sun, so the day's hours are those of the open window to the
+    engine's tolerance. The exact method's edge crossings ((a - P) x (b - P)) . s(t) vanish
+    identically for an edge whose line holds P."""
+    from conftest import Built
+
+    from en17037cli.samples import box_room_project
+
+    date = "03-01"
+    sun = {"date": date, "period": {"start": date, "end": date}, "min_altitude_deg": 11.0, "tolerance_s": 0.01}
+    hours = []
+    for k, obstacle in enumerate((None, [[(dx, -1, 1.2), (dx, -5, 1.2), (dx + 3, -3, 1.2)]],
+                                  [[(dx, -1, 0), (dx, -5, 0), (dx, -5, 10), (dx, -1, 10)]])):
+        path = box_room_project(tmp_path / f"p{k}", BoxRoom(building_height=0), sunlight=sun, view=None,
+                                location={"latitude": 52.0, "longitude": 4.36, "timezone": "UTC"})
+        if obstacle:
+            write_obj(path.parent / "obstacle.obj", {"obstacle": obstacle})
+            doc = yaml.safe_load(path.read_text())
+            doc["model"]["files"].append({"path": "obstacle.obj", "layer": "landscape"})
+            path.write_text(yaml.safe_dump(doc))
+        b = Built(path)
+        try:
+            r = b.sunlight()
+            assert np.allclose(b.scene.to_world(r.points_local[0]), [0.0, 0.001, 1.2])  # P: the face planes hold it
+            hours.append(r.hours[0])
+        finally:
+            b.engine.close()
+    assert hours[0] > 5.0  # the open south window sees the sun most of the day
+    assert np.all(np.abs(np.array(hours) - hours[0]) * 3600 <= 0.05), hours
