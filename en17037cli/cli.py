@@ -1,7 +1,18 @@
 """``en17037``: the command-line interface, click commands over the library only.
 
-Exit codes: 0 every required level met, 1 a required level missed, 2 bad input, 3 internal error.
-Domain errors become one-line messages here, in one place (:func:`guard`).
+Conventions every command follows (add new ones the same way):
+
+- Exit codes: 0 every required level met, 1 a required level missed (or a required check not
+  assessed), 2 bad input, 3 internal error, 130 Ctrl-C, 143 SIGTERM.
+- **stdout carries results** (the verdict table and status line of ``check``, what ``validate``
+  found, the tables of ``compare`` and ``batch``, ``--json`` documents); **stderr carries
+  diagnostics** (``error:``, ``warning:`` and ``note:`` lines, progress bars). So
+  ``en17037 check p.yaml > log.txt`` keeps the verdict and a script can parse ``--json``.
+- Domain errors become one line ``error: ...`` here, in one place (:func:`guard`), and so do usage
+  mistakes (naming the command's ``--help``), exit 2. Help (``--help``, or a bare ``en17037``) goes
+  to stdout with exit 0.
+- Durations for people are written ``5 h 52 min`` (:func:`~en17037cli.report.numbers.fmt_duration`);
+  decimal hours appear only in machine fields whose names end in ``_h``.
 """
 from __future__ import annotations
 
@@ -68,21 +79,26 @@ def max_points_option(fn):
 
 def set_option(fn):
     return click.option("--set", "overrides", multiple=True, metavar="KEY.PATH=VALUE",
-                        help="Override a project key, e.g. --set sunlight.timestep_min=1 (repeatable).")(fn)
+                        help="Override a project key, e.g. --set view.grid_spacing_m=1 (repeatable); a key with no effect "
+                             "under the project's other settings is a warning saying why.")(fn)
 
 
 class Group(click.Group):
-    """click's group, with usage errors as one line ``error: ...`` (exit 2) like every other input
-    error, and Ctrl-C as exit 130."""
+    """click's group: help (and a bare group with no command) on stdout with exit 0; a usage mistake
+    as one line ``error: ...`` on stderr naming the command's --help (exit 2), like every other input
+    error; Ctrl-C as exit 130."""
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
         try:
             code = super().main(args, prog_name, complete_var, False, **extra)
-        except click.UsageError as exc:
+        except click.exceptions.NoArgsIsHelpError as exc:  # a bare `en17037` (or group): its help, not an error
+            click.echo(exc.ctx.get_help())
+            sys.exit(EXIT_PASS)
+        except click.UsageError as exc:  # one line, like every other input error (click lists choices on several)
             where = f" (see {exc.ctx.command_path} --help)" if exc.ctx is not None else ""
-            _fail(exc.format_message() + where, EXIT_INPUT)
+            _fail(" ".join(exc.format_message().split()) + where, EXIT_INPUT)
         except click.ClickException as exc:
             _fail(exc.format_message(), EXIT_INPUT)
         except (click.exceptions.Abort, KeyboardInterrupt):
@@ -94,7 +110,7 @@ class Group(click.Group):
 @click.group(cls=Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="en17037")
 def cli():
-    """Check EN 17037 View out (5.2) and Exposure to sunlight (5.3) on a 3D model."""
+    """Check EN 17037 daylight provision (5.1), view out (5.2) and exposure to sunlight (5.3) on a 3D model."""
 
 
 def junit_option(fn):
@@ -117,7 +133,9 @@ def junit_option(fn):
 @junit_option
 @click.option("--no-plots", is_flag=True, help="No pictures: report.html and report.md without maps, fisheyes or charts.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bars and no summary.")
-def check(project_file: Path, out_dir, only, overrides, max_points, baseline, junit, no_plots, quiet):
+@click.option("--json", "as_json", is_flag=True,
+              help="Print report.json on stdout instead of the verdict table (for scripts; the reports are written too).")
+def check(project_file: Path, out_dir, only, overrides, max_points, baseline, junit, no_plots, quiet, as_json):
     """Run the checks of PROJECT_FILE and write the reports."""
     from en17037cli import pipeline
     from en17037cli.preflight import MAX_POINTS
@@ -173,10 +191,14 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
     _exit_on_sigterm()
     report, comparison, record = guard(run)
     annotate([record])
-    if not quiet:
+    if as_json:
+        from en17037cli.report.write import report_json
+
+        click.echo(report_json(report), nl=False)
+    elif not quiet:
         summary(report, out)
         if comparison is not None:
-            comparison_table(comparison, err=True)
+            comparison_table(comparison)
     if comparison is not None:
         sys.exit(comparison.exit_code)
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
@@ -227,7 +249,8 @@ def _exit_on_sigterm():
 @set_option
 @max_points_option
 @click.option("--objects", is_flag=True, help="Also list every object (part) of the model with its layer and faces.")
-def validate(project_file: Path, overrides, max_points, objects):
+@click.option("--json", "as_json", is_flag=True, help="Print the findings as one JSON document on stdout (for scripts).")
+def validate(project_file: Path, overrides, max_points, objects, as_json):
     """Check PROJECT_FILE and its geometry as `check` would, without running the criteria.
 
     Prints faces per layer, each room's floor, ceiling and the windows that bound it (and why),
@@ -246,6 +269,12 @@ def validate(project_file: Path, overrides, max_points, objects):
             return project, scene, preflight(Context(project, scene, engine), max_points or MAX_POINTS)
 
     project, scene, pf = guard(run)
+    if as_json:
+        from en17037cli.report.validation import validation_document
+
+        click.echo(json.dumps(validation_document(project_file, project, scene, pf, max_points or MAX_POINTS), indent=2,
+                              ensure_ascii=False))
+        return
     click.echo(f"{project_file}: valid")
     click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in scene.layer_counts().items()))
     for display, line in scene.read:  # what each reader read and left out
@@ -281,10 +310,10 @@ def validate(project_file: Path, overrides, max_points, objects):
         for d in pf.dwellings:
             main = "" if d.main_rooms == d.rooms else f" (main: {', '.join(d.main_rooms)})"
             click.echo(f"dwelling '{d.name}' ({d.source}): {', '.join(d.rooms)}{main}")
-    for note in pf.warnings:
-        click.echo(f"warning: {note}")
+    for note in pf.warnings:  # diagnostics: stderr
+        click.echo(f"warning: {note}", err=True)
     for note in scene.notes:
-        click.echo(f"note: {note}")
+        click.echo(f"note: {note}", err=True)
     if objects:
         list_objects(scene)
 
@@ -439,8 +468,9 @@ def batch(projects, variants, out_dir: Path, jobs, scheduler, only, overrides, m
 @click.argument("after", type=click.Path(path_type=Path))
 @click.option("--format", "fmt", type=click.Choice(["text", "md", "json"]), default="text", show_default=True,
               help="md: a Markdown table for a pull-request comment; json: for scripts.")
+@click.option("--json", "as_json", is_flag=True, help="Same as --format json.")
 @click.option("--all", "everything", is_flag=True, help="List the unchanged rooms and criteria too.")
-def compare(before: Path, after: Path, fmt, everything):
+def compare(before: Path, after: Path, fmt, everything, as_json):
     """What changed from BEFORE to AFTER (report.json files or report folders), room by room.
 
     Exit 1 when a level or a status got worse (or a new room or criterion fails), 0 otherwise.
@@ -448,6 +478,8 @@ def compare(before: Path, after: Path, fmt, everything):
     from en17037cli.compare import compare_reports, comparison_json, comparison_markdown, load_report
 
     c = guard(lambda: compare_reports(load_report(before, "BEFORE"), load_report(after, "AFTER"), str(before), str(after)))
+    if as_json:
+        fmt = "json"
     if fmt == "md":
         click.echo(comparison_markdown(c, everything), nl=False)
     elif fmt == "json":

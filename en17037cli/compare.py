@@ -17,6 +17,7 @@ from pathlib import Path
 
 from en17037cli.errors import InputError
 from en17037cli.report.labels import STATUS_LABEL
+from en17037cli.report.numbers import fmt_duration
 from en17037cli.report.summary import room_rows
 
 #: Order of levels; a level not reached (not assessed) ranks below none.
@@ -103,13 +104,17 @@ def entries(report: dict) -> dict[tuple[str, str], dict]:
         if sun["status"] is not None:
             name = "(whole project)" if d["grouped_by"] == WHOLE_PROJECT else d["name"]
             out[(name, "dwelling")] = {"level": None, "required": sun["required"], "status": sun["status"],
-                                            "verdict": sun["status"], "hours": sun["hours"], "share": None, "decided_by": sun["room"],
+                                            "verdict": sun["status"], "hours_h": sun.get("hours_h", sun.get("hours")), "share": None, "decided_by": sun["room"],
                                             "rooms": list(d["rooms"])}
     return out
 
 
 def _fmt(value) -> str:
     return "-" if value is None else json.dumps(value) if isinstance(value, float) else str(value)
+
+
+def _duration(hours) -> str:
+    return "-" if hours is None else fmt_duration(hours)
 
 
 def _status(s) -> str:
@@ -127,11 +132,16 @@ def classify(before: dict, after: dict) -> tuple[str, list[str]]:
         what.append(f"status {_status(before['status'])} → {_status(after['status'])}")
     if before["required"] != after["required"]:
         what.append(f"required {_fmt(before['required'])} → {_fmt(after['required'])}")
-    for key, unit in (("hours", " h"), ("share", "")):
-        b, a = before.get(key), after.get(key)
-        if b != a:
-            delta = f" ({round(a - b, 6):+g})" if isinstance(a, float | int) and isinstance(b, float | int) else ""
-            what.append(f"{key} {_fmt(b)} → {_fmt(a)}{unit}{delta}")
+    b, a = before.get("hours_h"), after.get("hours_h")
+    if b != a:  # durations for people: "3 h 20 min → 2 h (-1 h 20 min)"
+        delta = ""
+        if isinstance(a, float | int) and isinstance(b, float | int):
+            delta = f" ({'+' if a >= b else '-'}{fmt_duration(abs(a - b))})"
+        what.append(f"hours {_duration(b)} → {_duration(a)}{delta}")
+    b, a = before.get("share"), after.get("share")
+    if b != a:
+        delta = f" ({round(a - b, 6):+g})" if isinstance(a, float | int) and isinstance(b, float | int) else ""
+        what.append(f"share {_fmt(b)} → {_fmt(a)}{delta}")
     if before.get("decided_by") != after.get("decided_by"):
         what.append(f"decided by {_fmt(before.get('decided_by'))} → {_fmt(after.get('decided_by'))}")
     if la < lb or sa < sb:
@@ -209,8 +219,8 @@ def comparison_json(c: Comparison) -> str:
            "regressions": len(c.regressions), "counts": {k: c.count(k) for k in CHANGES},
            "changes": [{"name": ch.name, "criterion": ch.criterion, "change": ch.change, "regression": ch.regression,
                         "what": ch.what,
-                        "before": None if ch.before is None else {k: ch.before.get(k) for k in ("level", "status", "hours", "share")},
-                        "after": None if ch.after is None else {k: ch.after.get(k) for k in ("level", "status", "hours", "share")}}
+                        "before": None if ch.before is None else {k: ch.before.get(k) for k in ("level", "status", "hours_h", "share")},
+                        "after": None if ch.after is None else {k: ch.after.get(k) for k in ("level", "status", "hours_h", "share")}}
                        for ch in c.changes]}
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 

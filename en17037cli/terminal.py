@@ -40,32 +40,42 @@ def annotate(records) -> None:
             click.echo(line)
 
 
+def stdout_console():
+    from rich.console import Console
+
+    return Console()
+
+
 def summary(report: dict, out: Path):
+    """The verdict table and the status line on stdout (results); warnings on stderr (diagnostics)."""
     from rich.table import Table
 
     from en17037cli.report.labels import STATUS_LABEL
+    from en17037cli.report.numbers import fmt_duration
 
     table = Table(title=f"EN 17037: {report['project']['name']}")
     for col in ("room", "check", "reached", "required", "result"):
         table.add_column(col)
     for room in report["rooms"]:
-        for name, key in (("view out", "view"), ("sunlight", "sunlight"), ("daylight", "daylight")):
+        for name, key in (("daylight", "daylight"), ("view out", "view"), ("sunlight", "sunlight")):
             r = room.get(key)
             if r:
-                extra = f" ({r['hours']} h on {r['assessed_date']})" if key == "sunlight" and r["status"] in ("pass", "fail") else ""
+                extra = ""
+                if key == "sunlight" and r["status"] in ("pass", "fail"):
+                    extra = f" ({fmt_duration(r['hours_h'])} on {r['assessed_date']})"
                 if key == "daylight" and r["status"] in ("pass", "fail"):
                     extra = f" ({daylight_words(r)})"
                 table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
-    console = stderr_console()
+    console = stdout_console()
     console.print(table)
     s = report["summary"]
     if s["dwellings_sunlight_required"] > 1:
         console.print(f"{s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass sunlight; "
                       f"{s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass view")
     for w in report["warnings"]:
-        console.print(f"warning: {w}", style="yellow", highlight=False)
-    console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.html, report.md, report.json, view_points.csv, "
-                  "sunlight_days.csv, daylight_points.csv)")
+        click.echo(f"warning: {w}", err=True)
+    # one whole line, never wrapped: scripts and people grep it
+    click.echo(f"status: {report['status'].upper()}; reports in {out}/ (report.html, report.md, report.json and the CSVs)")
 
 
 def daylight_words(section: dict) -> str:
@@ -96,6 +106,7 @@ def batch_table(records, out: Path) -> None:
     from rich.table import Table
 
     from en17037cli.report.labels import STATUS_LABEL
+    from en17037cli.report.numbers import fmt_duration
 
     table = Table(title="EN 17037 batch")
     for col in ("run", "room", "check", "reached", "required", "result", "hours / share"):
@@ -105,11 +116,11 @@ def batch_table(records, out: Path) -> None:
             result = STATUS_LABEL[row["status"]]
             if row["verdict"] != row["status"]:
                 result += " (dwelling passes)" if row["dwelling_status"] == "pass" else " (not asked)"
-            figure = (f"{row['hours']} h" if row["hours"] is not None else
+            figure = (fmt_duration(row["hours_h"]) if row["hours_h"] is not None else
                       f"{row['share']:.0%}" if row["share"] is not None else "")
             table.add_row(escape(rec.label), escape(row["room"]), row["criterion"], row["level"] or "-", row["required"], result,
                           figure)
-    console = stderr_console()
+    console = stdout_console()
     if table.row_count:
         console.print(table)
     for rec in records:  # whole lines, never wrapped: scripts and people grep them
@@ -118,7 +129,7 @@ def batch_table(records, out: Path) -> None:
                 click.echo(f"error: {rec.label}: {line}", err=True)
     counts = {code: sum(r.exit_code == code for r in records) for code in range(4)}
     click.echo(f"{len(records)} runs: {counts[0]} pass, {counts[1]} fail, {counts[2]} bad input, {counts[3]} internal error; "
-               f"summary in {out}/ (summary.csv, summary.json)", err=True)
+               f"summary in {out}/ (summary.csv, summary.json)")
 
 
 def comparison_table(c, err: bool = False, everything: bool = False) -> None:

@@ -122,7 +122,7 @@ def test_batch_runs_every_project_and_variant_and_records_failures(box, block, t
         ("medium", "medium", "pass", "pass", "0.75", "0")
     assert by[("box", "minimum", "box room", "view")]["share"] == "1.0"
     s = by[("box", "medium", "box room", "sunlight")]
-    assert (s["level"], s["assessed_date"], s["hours"], s["status"]) == ("medium", "2026-02-01", "3.3366", "pass")  # exact method (sampled: 3.3365)
+    assert (s["level"], s["assessed_date"], s["hours_h"], s["status"]) == ("medium", "2026-02-01", "3.3366", "pass")  # exact method (sampled: 3.3365)
     assert float(s["hours_error_h"]) < 0.01 and float(v["max_solid_angle_error_sr"]) > 0 and float(v["time_s"]) > 0
     # the block's north rooms see nothing of the street and no sun: the run fails, its south rooms pass
     assert by[("block", "minimum", "1.N01", "sunlight")]["level"] == "none"
@@ -257,4 +257,4 @@ def test_variants_of_one_project_on_the_cli(box, tmp_path):
     assert r.exit_code == 0
     rows = {(x["variant"], x["criterion"]): x for x in csv.DictReader((tmp_path / "out" / "summary.csv").open())}
     # turning north by 90 deg makes the window face east: less sun on the worst day than facing south
-    assert float(rows[("east", "sunlight")]["hours"]) < float(rows[("south", "sunlight")]["hours"]) == 3.3366
+    assert float(rows[("east", "sunlight")]["hours_h"]) < float(rows[("south", "sunlight")]["hours_h"]) == 3.3366

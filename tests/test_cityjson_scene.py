@@ -78,7 +78,7 @@ def test_city_context_needs_no_rule_and_gives_the_obj_answers(tmp_path):
     obj = box_room_project(tmp_path / "obj", BoxRoom(), sunlight=SUN, view=VIEW)  # street as OBJ, at the origin
     ref = run(obj, tmp_path / "r")
     a, b = report["rooms"][0], ref["rooms"][0]
-    assert a["sunlight"]["hours"] == b["sunlight"]["hours"]
+    assert a["sunlight"]["hours_h"] == b["sunlight"]["hours_h"]
     pa, pb = a["view"]["eye_heights"][0]["points"], b["view"]["eye_heights"][0]["points"]
     assert len(pa) == len(pb)
     for p, q in zip(pa, pb):
@@ -98,8 +98,8 @@ def test_the_checked_building_in_the_city_model_is_left_out(tmp_path):
     assert any("1 building(s) overlapping the model's own plan left out (exclude_overlapping): NL.self" in n
                for n in report["notes"])
     # the room is not inside a solid copy of itself: the street's answer, as without the copy
-    assert report["rooms"][0]["sunlight"]["hours"] == run(project_with_city(tmp_path / "s", STREET, place=PLACE),
-                                                          tmp_path / "o3")["rooms"][0]["sunlight"]["hours"]
+    assert report["rooms"][0]["sunlight"]["hours_h"] == run(project_with_city(tmp_path / "s", STREET, place=PLACE),
+                                                          tmp_path / "o3")["rooms"][0]["sunlight"]["hours_h"]
     # with exclude_overlapping off, the city model's copy of the building covers the glazing: the
     # uncut-wall check stops the run and names both
     path = project_with_city(tmp_path / "b", buildings, place=PLACE, exclude_overlapping=False)
@@ -172,4 +172,4 @@ def test_the_rotterdam_sample_project(tmp_path):
     r = CliRunner().invoke(cli, ["validate", str(path)])
     assert "faces per layer: window 2, interior 18, ground 2, landscape 534" in r.output
     s = report["rooms"][0]["sunlight"]
-    assert s["assessed_date"] == "2026-02-01" and 2.5 < s["hours"] < 3.5  # the block's 15 m roofs, 20 m south
+    assert s["assessed_date"] == "2026-02-01" and 2.5 < s["hours_h"] < 3.5  # the block's 15 m roofs, 20 m south

@@ -33,7 +33,7 @@ def report(box, tmp_path_factory):
     (3.3366 h on 1 February, required minimum), one dwelling (the whole project): PASS."""
     doc = en17037cli.write_reports(en17037cli.run(en17037cli.load_project(box)), tmp_path_factory.mktemp("r"))
     room = doc["rooms"][0]
-    assert (room["view"]["level"], room["view"]["status"], room["sunlight"]["level"], room["sunlight"]["hours"]) == \
+    assert (room["view"]["level"], room["view"]["status"], room["sunlight"]["level"], room["sunlight"]["hours_h"]) == \
         ("medium", "pass", "medium", 3.3366)
     return json.loads(json.dumps(doc))
 
@@ -64,9 +64,9 @@ def test_a_level_that_drops_is_a_regression(report):
     assert (ch.change, ch.regression, c.exit_code) == ("worse", True, 1)
     assert ch.what == ["level medium → minimum", "status PASS → FAIL"]
     # still passing, one level down (sunlight medium -> minimum against minimum required): worse too
-    c, by = changes(report, edited(report, "sunlight", level="minimum", hours=2.0))
+    c, by = changes(report, edited(report, "sunlight", level="minimum", hours_h=2.0))
     assert by[("box room", "sunlight")].change == "worse" and c.exit_code == 1
-    assert by[("box room", "sunlight")].what == ["level medium → minimum", "hours 3.3366 → 2.0 h (-1.3366)"]
+    assert by[("box room", "sunlight")].what == ["level medium → minimum", "hours 3 h 20 min → 2 h (-1 h 20 min)"]  # 3.3366 h, 2.0 h
 
 
 def test_a_level_that_rises_is_better_and_passes(report):
@@ -76,10 +76,10 @@ def test_a_level_that_rises_is_better_and_passes(report):
 
 
 def test_only_figures_changed_is_not_a_regression(report):
-    c, by = changes(report, edited(report, "sunlight", hours=3.0))
+    c, by = changes(report, edited(report, "sunlight", hours_h=3.0))
     ch = by[("box room", "sunlight")]
     assert (ch.change, ch.regression, c.exit_code) == ("changed", False, 0)
-    assert ch.what == ["hours 3.3366 → 3.0 h (-0.3366)"]
+    assert ch.what == ["hours 3 h 20 min → 3 h (-20 min)"]  # 3.3366 h → 3.0 h
 
 
 def test_a_status_that_drops_at_the_same_level_is_a_regression(report):
@@ -168,7 +168,7 @@ def test_check_with_a_baseline_fails_only_on_regressions(box, tmp_path):
     assert "status FAIL → FAIL; 1 regression, 0 better, 1 changed, 1 unchanged, 0 added, 0 removed" in r.output
     junit = (tmp_path / "junit.xml").read_text()
     assert junit.count('<failure type="REGRESSION"') == 1 and junit.count("<skipped ") == 1  # the view, known
-    assert 'message="worse than the baseline (level medium → minimum; hours 3.3366 → ' in junit
+    assert 'message="worse than the baseline (level medium → minimum; hours 3 h 20 min → ' in junit
     r = invoke("check", box, "--out", tmp_path / "x", "--baseline", tmp_path / "none.json")
     assert r.exit_code == 2 and r.output.startswith(f"error: --baseline {tmp_path / 'none.json'}: ")
     assert not (tmp_path / "x").exists()  # stopped before any work

@@ -47,7 +47,7 @@ def test_two_flats_judged_flat_by_flat(tmp_path):
     assert d["Flat A"]["sunlight"]["status"] == "pass" and d["Flat A"]["sunlight"]["room"] == "1.S01"
     b = d["Flat B"]["sunlight"]
     # its best (only) room has no sun at all: 1.5 h short of 'minimum'
-    assert (b["status"], b["room"], b["hours"], b["required"], b["shortfall_h"]) == ("fail", "1.N02", 0.0, "minimum", 1.5)
+    assert (b["status"], b["room"], b["hours_h"], b["required"], b["shortfall_h"]) == ("fail", "1.N02", 0.0, "minimum", 1.5)
     # the south room 1.S02, in no listed dwelling, is a dwelling of its own and passes
     assert d["1.S02"]["grouped_by"] == "a room in no dwelling" and d["1.S02"]["sunlight"]["status"] == "pass"
     assert report["summary"] == {"rooms": 4, "rooms_view_required": 0, "rooms_view_pass": 0, "dwellings": 3,

@@ -139,7 +139,7 @@ def test_every_space_is_a_room_with_its_windows_location_and_north_from_the_file
     # P on the room side of the opening: the wall's inner face (y = 0.3), not the frame's (y = 0.1)
     p = rooms["Kitchen (0.02)"]["sunlight"]["windows"][0]
     assert p["point_p_m"] == [7.75, 7.7, 1.36] and p["reveal_depth_m"] == 0.243  # sill 1.06 + 0.3; 0.3 - 0.057
-    assert rooms["Kitchen (0.02)"]["sunlight"]["hours"] == 0.0  # a north window in February
+    assert rooms["Kitchen (0.02)"]["sunlight"]["hours_h"] == 0.0  # a north window in February
 
 
 def test_the_same_house_as_obj_with_rooms_by_hand_gives_the_same_answers(ifc4, tmp_path):
@@ -186,7 +186,7 @@ def test_the_same_house_as_obj_with_rooms_by_hand_gives_the_same_answers(ifc4, t
                     assert d <= 2 * (pa["solid_angle_error_sr"][k] + pb["solid_angle_error_sr"][k]) + 1e-6, (name, k)
         sa, sb = a[name]["sunlight"], b[name]["sunlight"]
         if len(sa["windows"]) == len(sb["windows"]):  # the living room's two panes are two OBJ windows, one IfcWindow
-            assert abs(sa["hours"] - sb["hours"]) * 3600 <= 4.0, name  # two changes a day within 1 s each, both runs
+            assert abs(sa["hours_h"] - sb["hours_h"]) * 3600 <= 4.0, name  # two changes a day within 1 s each, both runs
 
 
 def test_ifc_space_errors(ifc4, tmp_path):
@@ -227,7 +227,7 @@ def test_the_ifc_sample_project(tmp_path):
                                                           "Living (0.01)"]
     assert {d["name"] for d in report["dwellings"]} == {"Flat A", "Flat B"}
     kitchen = next(r for r in report["rooms"] if r["name"] == "Kitchen (0.02)")
-    assert kitchen["sunlight"]["hours"] == 0.0  # a north window (20 deg east of north) between February and March
+    assert kitchen["sunlight"]["hours_h"] == 0.0  # a north window (20 deg east of north) between February and March
 
 
 def test_the_apartment_block_generator(tmp_path):

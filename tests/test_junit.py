@@ -111,7 +111,7 @@ def test_the_same_inputs_give_the_same_junit_apart_from_times(box, tmp_path, mon
 
 def test_names_with_control_characters_still_make_valid_xml(schema, tmp_path):
     row = {"room": "flat\x01 1 <&>", "criterion": "view", "level": "none", "required": "minimum", "status": "fail",
-           "verdict": "fail", "dwelling": "", "hours": None, "assessed_date": None, "time_s": 0.1, "message": ""}
+           "verdict": "fail", "dwelling": "", "hours_h": None, "assessed_date": None, "time_s": 0.1, "message": ""}
     (tmp_path / "j.xml").write_text(junit_xml([RunRecord(project="p.yaml", exit_code=1, rows=[row])], now=0.0))
     schema.validate(tmp_path / "j.xml")
     assert next(iter(cases(tmp_path / "j.xml"))) == "flat 1 <&>: view out (5.2)"

@@ -64,12 +64,12 @@ def test_a_room_takes_only_the_windows_that_bound_it(tmp_path):
     assert [w["name"] for w in room["windows"]] == ["W 1.N01"]
     assert room["windows"][0]["outward_normal"] == [0.0, 1.0, 0.0]  # north, away from the room
     # 52 N in February: the sun never stands north of the east-west line above 11 deg
-    assert room["sunlight"]["hours"] == 0.0 and room["sunlight"]["level"] == "none"
+    assert room["sunlight"]["hours_h"] == 0.0 and room["sunlight"]["level"] == "none"
     # the living room, alone, gets its own south window and sun through it
     path = block_project(tmp_path / "s", Block(), rooms=["1.S01"], view=None, sunlight=SUN)
     r = invoke("check", path, "--out", tmp_path / "out2", "-q")
     room = json.loads((tmp_path / "out2" / "report.json").read_text())["rooms"][0]
-    assert [w["name"] for w in room["windows"]] == ["W 1.S01"] and room["sunlight"]["hours"] > 1.5
+    assert [w["name"] for w in room["windows"]] == ["W 1.S01"] and room["sunlight"]["hours_h"] > 1.5
 
 
 def test_a_glob_that_picks_another_rooms_window_is_an_error_naming_both(tmp_path):
@@ -141,7 +141,7 @@ def test_glazing_no_ray_can_pass_is_a_warning(tmp_path):
     assert r.exit_code == 0 and f"warning: {warning}" in r.output, r.output
     r = invoke("check", path, "--out", tmp_path / "o", "-q")
     report = json.loads((tmp_path / "o" / "report.json").read_text())
-    assert warning in report["warnings"] and report["rooms"][0]["sunlight"]["hours"] == 0.0
+    assert warning in report["warnings"] and report["rooms"][0]["sunlight"]["hours_h"] == 0.0
 
 
 def test_layer_rules_that_match_nothing_and_a_model_without_interior_are_warnings(tmp_path):
@@ -228,7 +228,7 @@ def test_point_p_above_the_head_of_one_window_leaves_the_other(tmp_path):
     # the sun seen from the main window's P is the box room's own: the low window adds nothing
     plain = box_room_project(tmp_path / "plain", BoxRoom(), sunlight=SUN, view=None)
     invoke("check", plain, "--out", tmp_path / "o2", "-q", "--set", "requirements.view=none")
-    assert s["hours"] == json.loads((tmp_path / "o2" / "report.json").read_text())["rooms"][0]["sunlight"]["hours"]
+    assert s["hours_h"] == json.loads((tmp_path / "o2" / "report.json").read_text())["rooms"][0]["sunlight"]["hours_h"]
 
 
 def test_a_room_whose_only_window_has_no_point_p_is_not_assessable(tmp_path):

@@ -12,7 +12,7 @@ from en17037cli.pipeline import RunResult
 from en17037cli.report.numbers import json_number, json_xyz
 from en17037cli.standard import PRACTICES
 
-SCHEMA_VERSION = "1.0"
+SCHEMA_VERSION = "2.0"  # 2.0: decimal hours in fields named *_h (hours -> hours_h)
 
 
 def dwelling_entry(d, rule: str) -> dict:
@@ -20,7 +20,7 @@ def dwelling_entry(d, rule: str) -> dict:
     return {"name": d.dwelling.name, "rooms": list(d.dwelling.rooms), "main_rooms": list(d.dwelling.main_rooms),
             "grouped_by": d.dwelling.source,
             "sunlight": {"rule": rule, "status": d.status, "required": d.required, "room": d.room,
-                         "hours": json_number(d.hours, 4), "shortfall_h": json_number(d.shortfall_h, 4)}}
+                         "hours_h": json_number(d.hours, 4), "shortfall_h": json_number(d.shortfall_h, 4)}}
 
 
 def site_entry(scene) -> dict:
@@ -83,7 +83,8 @@ def build_report(result: RunResult) -> dict:
     doc = {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": "en17037cli", "version": __version__},
-        "project": {"name": project.config.get("name"), "file": project.path.name},
+        "project": {"name": project.config.get("name"), "file": project.path.name,
+                    **({"description": project.config["description"]} if project.config.get("description") else {})},
         "inputs": {"config": project.config, "model_files": scene.file_hashes, "local_origin_m": json_xyz(scene.origin, 6),
                    "checks_run": list(result.checks_run), "site": site_entry(scene), **resolved},
         "practice": {"name": project.practice, "source": PRACTICES[project.practice].source,

@@ -28,13 +28,15 @@ MAP_KINDS = {"sight_angle": "horizontal sight angle", "distance": "outside dista
 @dataclass(frozen=True)
 class Figure:
     """One picture: its file name in the report folder, the room and section it belongs to, a
-    caption, and the PNG bytes."""
+    caption, the PNG bytes (report.md, figures/) and the SVG (report.html: vector, text as text)."""
 
     name: str
     room: str
     section: str  # "view", "sunlight" or "daylight"
     caption: str
     png: bytes
+    svg: bytes = b""
+    print_: bool = True  # printed with report.html (False: on screen only)
 
 
 def room_slug(index: int, name: str) -> str:
@@ -61,18 +63,31 @@ class Job:
     draw: str  # "plan_map" | "hours_chart" | "fisheye"
     args: tuple
     kwargs: dict
+    print_: bool = True
 
 
 def draw(job: Job) -> Figure:
     """Draw one job into a :class:`Figure`."""
     from en17037cli.report import pictures
 
-    png = getattr(pictures, job.draw)(*job.args, **job.kwargs)
-    return Figure(job.name, job.room, job.section, job.caption, png)
+    png, svg = getattr(pictures, job.draw)(*job.args, **job.kwargs, fmt="both")
+    return Figure(job.name, job.room, job.section, job.caption, png, svg, job.print_)
+
+
+#: View criterion (as results name them) -> the plan-map kind that shows it.
+CRITERION_MAP = {"horizontal_sight_angle": "sight_angle", "outside_distance": "distance", "layers": "layers"}
+
+
+def limiting_map(level_by_criterion: dict) -> str:
+    """The map kind of the view criterion that limits an eye height's level: the lowest level, the
+    first of sight angle, distance, layers on a tie (the order the standard lists them)."""
+    crit = min(CRITERION_MAP, key=lambda c: level_by_criterion.get(c, 99))
+    return CRITERION_MAP[crit]
 
 
 def view_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
-    """The plan maps of room ``i``: four per eye height."""
+    """The plan maps of room ``i``: four per eye height; the level map and the map of what limits
+    the level are printed with report.html, the other two are on screen only (``print_``)."""
     r = result.rooms[i]
     res, plan = r.assessed("view"), r.illustrations.get("view")
     if res is None or plan is None:
@@ -87,6 +102,7 @@ def view_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
         values = {"sight_angle": (v.sight.angle_deg, th.horizontal_sight_angle_deg.as_dict()),
                   "distance": (v.distance_m, th.outside_distance_m.as_dict()),
                   "layers": (_layer_mask(v.visible), None), "level": (v.level.astype(float), None)}
+        limiting = limiting_map(e.level_by_criterion)
         for kind, words in MAP_KINDS.items():
             vals, thresholds = values[kind]
             title = f"{r.room.name}: {words}, eye height {e.eye_height_m:g} m"
@@ -94,7 +110,7 @@ def view_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
                            title, "plan_map", (xy, vals),
                            {"kind": kind, "thresholds": thresholds, "floor": plan.floor, "utilised": plan.utilised,
                             "windows": plan.windows, "true_north_deg": plan.true_north_deg, "near": v.near,
-                            "spacing_m": plan.spacing_m, "title": title}))
+                            "spacing_m": plan.spacing_m, "title": title}, print_=kind in ("level", limiting)))
     return out
 
 

@@ -22,6 +22,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from en17037cli.report.labels import STATUS_LABEL
+from en17037cli.report.numbers import fmt_duration
 from en17037cli.report.summary import RunRecord
 
 #: Characters XML 1.0 does not allow (control characters in names from a model), dropped.
@@ -48,7 +49,7 @@ def _describe(row: dict) -> str:
     if row["status"] in ("pass", "fail"):
         what = f"{crit}: level {row['level']} reached, {row['required']} required"
         if row["criterion"] == "sunlight":
-            what += f" ({row['hours']} h on {row['assessed_date']}"
+            what += f" ({fmt_duration(row['hours_h'])} on {row['assessed_date']}"
             what += f"; dwelling '{row['dwelling']}' fails the sunlight rule)" if row["dwelling"] and row["verdict"] != "pass" else ")"
         return what
     return f"{crit}: {STATUS_LABEL[row['status']]}: {row['message']}"

@@ -1,7 +1,7 @@
 """``report.md``: the report as Markdown, for people (GitHub, pull-request comments)."""
 from __future__ import annotations
 
-from en17037cli.report.labels import STATUS_LABEL, assessed, unassessed
+from en17037cli.report.labels import STATUS_LABEL, assessed, is_repair, unassessed
 from en17037cli.report.numbers import fmt_bound, fmt_duration
 from en17037cli.report.verdicts import limit_text
 from en17037cli.standard import LEVELS
@@ -15,25 +15,26 @@ def dwellings_markdown(report: dict) -> list[str]:
     if practice["set"]:
         out += [f"Practice: {practice['name']} ({practice['source']}); it set " +
                 ", ".join(f"`{k}: {v}`" for k, v in practice["set"].items()) + ".", ""]
-    if s["dwellings_sunlight_required"]:
+    defined = not (len(report["dwellings"]) == 1 and report["dwellings"][0]["grouped_by"] == "the whole project (no dwellings: key)")
+    if s["dwellings_sunlight_required"] and defined:  # no dwelling line for a project without dwellings
         out += [f"Sunlight: {s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass "
                 f"(rule: {'one main room' if report['dwellings'][0]['sunlight']['rule'] == 'any' else 'every room'} of a dwelling). "
                 f"View: {s['rooms_view_pass']} of {s['rooms_view_required']} rooms pass.", ""]
-    if len(report["dwellings"]) > 1 or report["dwellings"][0]["grouped_by"] != "the whole project (no dwellings: key)":
+    if defined:
         out += ["| dwelling | rooms | sunlight met by | hours | required | result |", "|---|---|---|---|---|---|"]
         for d in report["dwellings"]:
             sun = d["sunlight"]
             if sun["status"] is None:
                 continue
             who = sun["room"] if sun["status"] == "pass" else f"best: {sun['room']}, {fmt_duration(sun['shortfall_h'])} short"
-            out.append(f"| {d['name']} | {', '.join(d['rooms'])} | {who} | {fmt_duration(sun['hours'])} | {sun['required']} | "
+            out.append(f"| {d['name']} | {', '.join(d['rooms'])} | {who} | {fmt_duration(sun['hours_h'])} | {sun['required']} | "
                        f"{STATUS_LABEL[sun['status']]} |")
         out.append("")
     return out
 
 
 #: (criterion key, how the reports title it)
-CHECKS = (("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)"), ("daylight", "daylight provision (5.1)"))
+CHECKS = (("daylight", "daylight provision (5.1)"), ("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)"))
 
 
 def verdict_rows(report: dict) -> list[dict]:
@@ -144,7 +145,7 @@ def window_rows(room: dict) -> list[list[str]]:
     rows = [["window", "area m²", "sill / head m", "point P m", "sunlight on the assessed day"]]
     for w in room["windows"]:
         p = by_name.get(w["name"], {})
-        hours = fmt_duration(p["hours"]) if p.get("hours") is not None else p.get("reason", "")
+        hours = fmt_duration(p["hours_h"]) if p.get("hours_h") is not None else p.get("reason", "")
         rows.append([w["name"], f"{w['area_m2']}", f"{w['sill_z_m']} / {w['head_z_m']}",
                      "" if not p.get("point_p_m") else ", ".join(f"{c:g}" for c in p["point_p_m"]), hours])
     return rows
@@ -162,13 +163,17 @@ def report_markdown(report: dict, figures=()) -> str:
     L = [f"# EN 17037 check: {report['project']['name']}", "",
          f"Overall status: **{report['status'].upper()}** (en17037cli {report['tool']['version']}, project file "
          f"`{report['project']['file']}`).", ""]
+    if report["project"].get("description"):
+        L += [report["project"]["description"], ""]
     L += dwellings_markdown(report)
     rows = verdict_rows(report)
     L += _md_table([["room", "check", "reached", "required", "result", "what limits it", "score"]]
                    + [[r["room"], r["check"], r["reached"], r["required"], f"**{r['result']}**", r["limits"], r["score"]]
                       for r in rows])
     L += ["", "Score: 0 to 3, the level at each threshold and linear in between (beyond the standard; see the README).", ""]
-    L += ["", "## Parameters the standard leaves open", ""] + [f"- {line}" for line in parameter_lines(report)]
+    attention = [w for w in report["warnings"] if not is_repair(w)]
+    if attention:
+        L += ["**Warnings:**", ""] + [f"- {w}" for w in attention] + [""]
     for room in report["rooms"]:
         L += ["", f"## Room {room['name']}", ""]
         if room.get("problem"):
@@ -190,18 +195,24 @@ def report_markdown(report: dict, figures=()) -> str:
                       "Every point's values: `view_points.csv`.", ""]
                 for f in pics:
                     if f.section == "view" and f"-view-{e['eye_height_m']:g}m-" in f.name:
-                        L.append(f"![{f.caption}]({f.name})")
+                        L += [f"![{f.caption}]({f.name})", f"*{f.caption}*", ""]
         s = assessed(room["sunlight"])
         if s:
-            hrs = [d["hours"] for d in s["days"]]
+            hrs = [d["hours_h"] for d in s["days"]]
             L += ["", f"**Exposure to sunlight: {s['level']}** (required {s['required']}, {STATUS_LABEL[s['status']]}); "
                   f"{limit_text('sunlight', s)}; ± {fmt_duration(s['error_estimates']['hours_error_h'])}. Over the period "
                   f"{fmt_duration(min(hrs))} to {fmt_duration(max(hrs))} a day (every day: `sunlight_days.csv`).", ""]
-            L += [f"![{f.caption}]({f.name})" for f in pics if f.section == "sunlight"]
+            L += [x for f in pics if f.section == "sunlight" for x in (f"![{f.caption}]({f.name})", f"*{f.caption}*", "")]
         d = assessed(room.get("daylight"))
         if d:
             L += ["", daylight_paragraph(d), ""] + _md_table(daylight_table(d)) + [""]
-            L += [f"![{f.caption}]({f.name})" for f in pics if f.section == "daylight"]
-    if report["notes"] or report["warnings"]:
-        L += ["", "## Notes", ""] + [f"- {n}" for n in report["warnings"] + report["notes"]]
+            L += [x for f in pics if f.section == "daylight" for x in (f"![{f.caption}]({f.name})", f"*{f.caption}*", "")]
+    L += ["", "## Technical notes", ""]
+    files = report["inputs"].get("model_files", {})
+    if files:
+        L += _md_table([["model file", "SHA-256"]] + [[name, h.removeprefix("sha256:")] for name, h in files.items()]) + [""]
+    L += ["### Parameters the standard leaves open", ""] + [f"- {line}" for line in parameter_lines(report)]
+    repairs = [w for w in report["warnings"] if is_repair(w)]
+    if repairs or report["notes"]:
+        L += ["", "### The model as read", ""] + [f"- {n}" for n in repairs + report["notes"]]
     return "\n".join(L) + "\n"

@@ -18,7 +18,7 @@ from en17037cli import __version__
 
 #: Columns of ``summary.csv`` and the keys of each row of ``summary.json``, in order.
 COLUMNS = ("project", "variant", "room", "criterion", "level", "required", "status", "verdict", "dwelling",
-           "dwelling_status", "hours", "assessed_date", "share", "hours_error_h", "max_solid_angle_error_sr",
+           "dwelling_status", "hours_h", "assessed_date", "share", "hours_error_h", "max_solid_angle_error_sr",
            "max_horizontal_sight_angle_error_deg", "max_outside_distance_error_m", "time_s", "exit_code", "message",
            "report")
 #: Columns that hold wall times: the only ones that differ between runs of the same inputs.
@@ -113,7 +113,7 @@ def room_rows(report: dict, times: dict[str, dict[str, float]] | None = None) ->
             rows.append({
                 "room": room["name"], "criterion": crit, "level": sec["level"], "required": sec["required"],
                 "status": status, "verdict": verdict, "dwelling": dwelling, "dwelling_status": d_status,
-                "hours": sec.get("hours") if assessed else None, "assessed_date": sec.get("assessed_date") if assessed else None,
+                "hours_h": sec.get("hours_h", sec.get("hours")) if assessed else None, "assessed_date": sec.get("assessed_date") if assessed else None,
                 "share": (view_share(sec) if crit == "view" else daylight_share(sec) if crit == "daylight" else None)
                 if assessed else None,
                 "hours_error_h": err.get("hours_error_h"),

@@ -30,13 +30,13 @@ def view_points_csv(report: dict) -> str:
 def sunlight_days_csv(report: dict) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["room", "date", "hours", "error_h", "assessed", "intervals"])
+    w.writerow(["room", "date", "hours_h", "error_h", "assessed", "intervals"])
     for room in report["rooms"]:
         s = assessed(room["sunlight"])
         if not s:
             continue
         for d in s["days"]:
-            w.writerow([room["name"], d["date"], d["hours"], d["error_h"], d["date"] == s["assessed_date"],
+            w.writerow([room["name"], d["date"], d["hours_h"], d["error_h"], d["date"] == s["assessed_date"],
                         ";".join(f"{a[11:19]}-{b[11:19]}" for a, b in d["intervals"])])
     return buf.getvalue()
 

@@ -45,7 +45,7 @@ def sunlight_limit_text(section: dict) -> str:
     how = f"{fmt_duration(-margin)} short of" if margin < 0 else f"{fmt_duration(margin)} above"
     if margin == 0:
         how = "exactly at"
-    return f"sunlight: {fmt_duration(section['hours'])} on {long_date(section['assessed_date'])}, {how} {lim['level']}"
+    return f"sunlight: {fmt_duration(section['hours_h'])} on {long_date(section['assessed_date'])}, {how} {lim['level']}"
 
 
 def daylight_limit_text(section: dict) -> str:

@@ -86,7 +86,7 @@ def test_a_city_model_in_degrees_is_projected_to_the_models_crs(tmp_path):
         assert code in (0, 1), out
         reports.append(json.loads((d / "r" / "report.json").read_text())["rooms"])
     assert reports[0] == reports[1]
-    assert reports[0][0]["sunlight"]["hours"] < 1.0  # the block stands in the low February sun
+    assert reports[0][0]["sunlight"]["hours_h"] < 1.0  # the block stands in the low February sun
 
 
 @pytest.mark.skipif(not BERLIN.is_file(), reason="../shared/data/real-models absent")
@@ -107,8 +107,8 @@ def test_real_berlin_tile_around_a_box_room(tmp_path):
     q.write_text(yaml.safe_dump(doc, sort_keys=False))
     run(["check", str(q), "--out", str(tmp_path / "o"), "--only", "sunlight", "--no-plots", "-q"])
     open_ = json.loads((tmp_path / "o" / "report.json").read_text())
-    h_city = with_city["rooms"][0]["sunlight"]["hours"]
-    h_open = open_["rooms"][0]["sunlight"]["hours"]
+    h_city = with_city["rooms"][0]["sunlight"]["hours_h"]
+    h_open = open_["rooms"][0]["sunlight"]["hours_h"]
     assert h_city < h_open  # the building to the south takes sun away; obstructions cannot add any
 
 

@@ -66,7 +66,7 @@ def test_box_room_as_3dfaces_gives_the_obj_box_rooms_report(tmp_path):
     faces_dxf(d / "model.dxf", box_room_polygons(BoxRoom()))
     dxf_rooms = run_project(tmp_path, "dxf", "model.dxf")
     assert dxf_rooms == obj_rooms
-    assert obj_rooms[0]["sunlight"]["hours"] > 0
+    assert obj_rooms[0]["sunlight"]["hours_h"] > 0
 
 
 def test_a_wall_drawn_whole_under_its_window_is_cut(tmp_path):

@@ -95,10 +95,10 @@ def test_feet_and_a_turned_model_with_its_cad_azimuth_give_the_same_figures(tmp_
     # the model turned 30 deg counterclockwise: its +Y axis now points 30 deg east of north (CADModelAzimuth 30)
     turned = rooms_of(gbxml_project(tmp_path / "t", box_room_gbxml(turn_deg=30.0, azimuth=30.0), north=True), tmp_path / "rt")
     s0, s1 = obj_rooms[0]["sunlight"], turned[0]["sunlight"]
-    assert abs(s1["hours"] - s0["hours"]) < 1e-3  # 3.6 s: the exact method's bisection tolerance, float noise of the turn
+    assert abs(s1["hours_h"] - s0["hours_h"]) < 1e-3  # 3.6 s: the exact method's bisection tolerance, float noise of the turn
     assert turned[0]["view"]["level"] == obj_rooms[0]["view"]["level"]
     wrong = rooms_of(gbxml_project(tmp_path / "w", box_room_gbxml(turn_deg=30.0, azimuth=0.0), north=True), tmp_path / "rw")
-    assert abs(wrong[0]["sunlight"]["hours"] - s0["hours"]) > 0.05  # the azimuth is what restores the answer
+    assert abs(wrong[0]["sunlight"]["hours_h"] - s0["hours_h"]) > 0.05  # the azimuth is what restores the answer
 
 
 def test_revit_interior_wall_with_the_room_on_both_sides_is_an_exterior_window(tmp_path, obj_rooms):
@@ -222,8 +222,8 @@ def test_real_revit_gbxml_project(tmp_path):
     assert code in (0, 1), out
     rooms = {r["name"]: r for r in json.loads((tmp_path / "r" / "report.json").read_text())["rooms"]}
     assert len(rooms) == 9
-    south = rooms["14 Dining Room"]["sunlight"]["hours"]  # windows facing due south (azimuth 180), 42.2 N on 1 February
-    east = rooms["19 Bath"]["sunlight"]["hours"]  # one window facing due east
+    south = rooms["14 Dining Room"]["sunlight"]["hours_h"]  # windows facing due south (azimuth 180), 42.2 N on 1 February
+    east = rooms["19 Bath"]["sunlight"]["hours_h"]  # one window facing due east
     assert south > 7.0 and 1.5 < east < 5.0
 
 

@@ -138,8 +138,8 @@ def test_same_inputs_give_the_same_bytes(name):
 
 def test_sizes_are_fixed():
     sizes = {name: decode(f(*a, **k)).shape[:2] for name, (f, a, k) in _calls().items()}
-    assert sizes["plan_level"] == (400, 500)
-    assert sizes["fisheye"] == (400, 560)
+    assert sizes["plan_level"] == (360, 500)  # one PNG pixel per layout pixel: P.PLAN_SIZE_IN x 100
+    assert sizes["fisheye"] == (360, 500)
     assert sizes["hours_chart"] == (320, 500)
     assert sizes["tornado"] == (400, 500)
     many = [(f"choice {i}", 1.0, 2.0 + i / 20, 1.5) for i in range(14)]
@@ -288,9 +288,9 @@ def test_fisheye_draws_the_class_raster_in_place():
     view = 200.0
     png = P.fisheye(window_raster(256, view), sun_paths=[], min_altitude_deg=11.0, view_azimuth_deg=view)
     img = decode(png)
-    # centre of the window: straight ahead, atan(0.35 / 2) = 9.9 deg up, in the sky part of the opening
-    centre_alt = math.degrees(math.atan2(0.5 * (WINDOW_BOTTOM_M + WINDOW_TOP_M), WINDOW_AHEAD_M))
-    r, c = P.fisheye_pixel(*P.fisheye_xy(view, centre_alt, view))
+    # straight ahead, halfway between the 11 deg curve (drawn over the raster) and the opening's top: sky
+    top_alt = math.degrees(math.atan2(WINDOW_TOP_M, WINDOW_AHEAD_M))
+    r, c = P.fisheye_pixel(*P.fisheye_xy(view, 0.5 * (11.0 + top_alt), view))
     assert tuple(img[r, c]) == tuple(rgb8(P.CLASS_COLOURS[P.CLASS_SKY]))
     # the ground seen through the bottom of the opening, 10 deg down
     r, c = P.fisheye_pixel(*P.fisheye_xy(view, -10.0, view))
@@ -437,7 +437,7 @@ def test_plan_level_cells_have_the_level_colours_in_proportion():
 def test_plan_layer_cells_take_their_combinations_colour():
     img = plan_region(decode(P.plan_map(POINTS, np.full(60, P.LANDSCAPE), kind="layers", thresholds=None, **room_kwargs())))
     own = P.LAYER_COLOURS[P.LAYER_ORDER.index(P.LANDSCAPE)]
-    assert count_colour(img, own) > 0.9 * 60 * (0.5 * 290 / 6.0) ** 2 * 0.9  # 60 cells of about 24 px square
+    assert count_colour(img, own) > 0.9 * 60 * (0.5 * P.PLAN_BOX_PX[2] / 6.0) ** 2 * 0.9  # 60 cells of about 18 px square
     assert all(count_colour(img, c) == 0 for c in P.LAYER_COLOURS if c != own)
 
 
@@ -447,7 +447,8 @@ def test_plan_continuous_cells_match_continuous_colours():
     img = plan_region(decode(P.plan_map(POINTS, values, kind="sight_angle", thresholds=THRESH_ANGLE, **room_kwargs())))
     rgba = P.continuous_colours("sight_angle", [THRESH_ANGLE["medium"]], THRESH_ANGLE, all_values=values)[0]
     colour = np.round(rgba[:3] * 255).astype(np.uint8)
-    assert int(np.all(img == colour, axis=-1).sum()) > 50 * 20 * 20
+    side = 0.5 * P.PLAN_BOX_PX[2] / 6.0 - 3  # a cell's side [px] less its anti-aliased rim
+    assert int(np.all(img == colour, axis=-1).sum()) > 50 * side * side
 
 
 def test_plan_marks_points_near_a_threshold():
@@ -473,7 +474,7 @@ def test_plan_map_without_spacing_utilised_or_windows():
     values = np.where(np.arange(60) % 9 == 0, np.nan, 3.0)
     png = P.plan_map(POINTS, values, kind="level", thresholds=None, floor=FLOOR, utilised=None, windows=[], true_north_deg=0.0)
     img = plan_region(decode(png))
-    assert count_colour(img, P.LEVEL_COLOURS[3]) > 0.8 * 53 * (0.5 * 290 / 6.0) ** 2
+    assert count_colour(img, P.LEVEL_COLOURS[3]) > 0.8 * 53 * (0.5 * P.PLAN_BOX_PX[2] / 6.0) ** 2
 
 
 def test_scale_bar_lengths():
@@ -545,7 +546,7 @@ def test_package_exports_every_public_name_of_the_former_plots_module():
 def test_plan_map_of_no_or_one_viewpoint(n):
     png = P.plan_map(POINTS[:n], np.full(n, 30.0), kind="sight_angle", thresholds=THRESH_ANGLE, floor=FLOOR, utilised=UTILISED,
                      windows=WINDOWS, true_north_deg=0.0)
-    assert decode(png).shape == (400, 500, 3)
+    assert decode(png).shape == (360, 500, 3)
 
 
 def test_painters_deal_jobs_to_several_workers_and_keep_their_order(tmp_path):

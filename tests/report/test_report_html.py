@@ -119,12 +119,12 @@ def test_limiting_sunlight_short_of_a_level(tmp_path):
     doc = json.loads((tmp_path / "o" / "report.json").read_text())
     s = doc["rooms"][0]["sunlight"]
     lim = s["limiting"]
-    assert lim["level"] == "high" and lim["needed"] == 4.0 and abs(lim["margin"] - (s["hours"] - 4.0)) < 1e-4
-    assert (r.exit_code == 1) == (s["hours"] < 4.0)
+    assert lim["level"] == "high" and lim["needed"] == 4.0 and abs(lim["margin"] - (s["hours_h"] - 4.0)) < 1e-4
+    assert (r.exit_code == 1) == (s["hours_h"] < 4.0)
     from en17037cli.report.numbers import fmt_duration
 
-    word = f"{fmt_duration(4.0 - s['hours'])} short of high" if s["hours"] < 4 else f"{fmt_duration(s['hours'] - 4.0)} above high"
-    assert f"sunlight: {fmt_duration(s['hours'])} on 1 February, {word}" in (tmp_path / "o" / "report.md").read_text()
+    word = f"{fmt_duration(4.0 - s['hours_h'])} short of high" if s["hours_h"] < 4 else f"{fmt_duration(s['hours_h'] - 4.0)} above high"
+    assert f"sunlight: {fmt_duration(s['hours_h'])} on 1 February, {word}" in (tmp_path / "o" / "report.md").read_text()
     assert not (tmp_path / "o" / "figures").exists()  # --no-plots
 
 
@@ -145,10 +145,12 @@ def test_html_is_self_contained(report_folder):
     html = (report_folder / "report.html").read_text("utf-8")
     assert "<script" not in html.lower()
     refs = re.findall(r'(?:src|href)\s*=\s*"([^"]*)"', html)
-    assert refs and all(r.startswith("data:image/png;base64,") for r in refs)
+    # inline SVG pictures: their rasters as data URIs, their clip paths by fragment; nothing else
+    assert all(r.startswith(("data:image/png;base64,", "#")) for r in refs)
+    assert not re.search(r"url\((?!#)", html)  # no CSS url() outside the page
     assert "default-src 'none'" in html
     figures = sorted((report_folder / "figures").iterdir())
-    assert len(figures) == 6 and html.count("<img ") == 6
+    assert len(figures) == 6 and html.count("<svg ") == 6
     md = (report_folder / "report.md").read_text("utf-8")
     assert all(f"](figures/{f.name})" in md for f in figures)
 
@@ -187,7 +189,7 @@ def test_html_in_a_headless_browser(report_folder, tmp_path):
     control.write_text('<!DOCTYPE html><html><body><img src="http://192.0.2.1/x.png"></body></html>')
     assert page_requests(browser, control, tmp_path / "net-control.json", "--dump-dom") == {"http://192.0.2.1/x.png"}
     dom = subprocess.run([*browser, "--dump-dom", page.as_uri()], capture_output=True, timeout=120, check=True, text=True).stdout
-    assert "Verdict" in dom and "view out (5.2)" in dom and dom.count("<img ") == 6
+    assert "Verdict" in dom and "view out (5.2)" in dom and dom.count("<svg ") == 6
     import matplotlib.image
 
     px = matplotlib.image.imread(shot)[..., :3]

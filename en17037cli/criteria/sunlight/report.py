@@ -43,13 +43,13 @@ def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: st
         entry = {"name": w.name, "point_p_m": None if problem else json_xyz(p),
                  "reveal_depth_m": None if depth is None else json_number(depth, 4),
                  "point_p_source": "explicit" if depth is None and not problem else "EN 17037 A.3 rule",
-                 "hours": None if problem or res.window_hours is None else json_number(res.window_hours[i, k], 4)}
+                 "hours_h": None if problem or res.window_hours is None else json_number(res.window_hours[i, k], 4)}
         if problem:
             entry |= {"status": "not_assessable", "reason": problem}
         windows.append(entry)
     days = []
     for d, h, iv, e in zip(res.dates, res.hours, res.intervals, res.error_h):
-        days.append({"date": d.isoformat(), "hours": json_number(h, 4), "error_h": json_number(e, 5),
+        days.append({"date": d.isoformat(), "hours_h": json_number(h, 4), "error_h": json_number(e, 5),
                      "intervals": [[iso_time(a, tz), iso_time(b, tz)] for a, b in iv]})
     limit = standard.sunlight_limit(res.hours[k], res.level, required, thresholds)
     return {
@@ -59,7 +59,7 @@ def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: st
         "limiting": json_limit(limit),
         "score": sunlight_score(res.hours[k], res.level, thresholds),
         "assessed_date": res.dates[k].isoformat(),
-        "hours": json_number(res.hours[k], 4),
+        "hours_h": json_number(res.hours[k], 4),
         "near_threshold": res.near_threshold,
         "error_estimates": {
             "hours_error_h": json_number(res.error_h[k], 5),

@@ -9,7 +9,7 @@ from en17037cli.report.numbers import fmt_duration, fmt_hm
 from en17037cli.report.pictures.canvas import _render
 from en17037cli.report.pictures.colours import ASSESSED_COLOUR, BAR_COLOUR
 
-#: Figure size of the hours chart [in] (width, height).
+#: Layout size of the hours chart [in / 100 px] (width, height); printed at PRINT_SCALE (3.45 x 2.2 in).
 CHART_SIZE_IN = (5.0, 3.2)
 
 _MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
@@ -20,7 +20,8 @@ def _date_label(d) -> str:
     return f"{d.day} {_MONTHS[d.month - 1]}"
 
 
-def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_window: dict | None = None, title: str = "") -> bytes:
+def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_window: dict | None = None, title: str = "",
+                fmt: str = "png"):
     """Sun hours per day over the assessment period, with the level thresholds and the assessed day.
 
     Parameters
@@ -30,7 +31,8 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
     thresholds : dict {"minimum", "medium", "high"} [h]
     assessed_index : int, position of the assessed day in ``dates`` (its bar is dark and hatched)
     per_window : dict name -> (d,) float [h], optional; each window's hours as thin lines
-    title : str
+    title : str, not drawn: the reports caption the picture
+    fmt : "png", "svg" or "both"
 
     Returns
     -------
@@ -48,7 +50,7 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
         from matplotlib.patches import Rectangle
         from matplotlib.ticker import FixedLocator, FuncFormatter, MultipleLocator
 
-        ax = fig.add_axes((0.1, 0.12, 0.72, 0.72))
+        ax = fig.add_axes((0.14, 0.14, 0.60, 0.80))
         x = np.arange(d)
         top = np.nan_to_num(hrs)
         others = np.flatnonzero(x != k)
@@ -57,9 +59,13 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
                                          facecolors=BAR_COLOUR, edgecolors="none"))
         if 0 <= k < d:
             ax.add_patch(Rectangle((k - 0.4, 0), 0.8, top[k], facecolor=ASSESSED_COLOUR, edgecolor="white", linewidth=0, hatch="////"))
-            ax.annotate(f"assessed {_date_label(dates[k])}\n{fmt_duration(hrs[k])}", (k, float(np.nan_to_num(hrs[k]))),
-                        xytext=(0, 4), textcoords="offset points", ha="center", va="bottom", fontsize=6.5,
-                        bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
+            # beside the bar's top, inside the axes (right of the assessed bar, left of it near the period's end):
+            # never over the y tick labels
+            right = k < 0.6 * d
+            ax.annotate(f"assessed {_date_label(dates[k])}: {fmt_duration(hrs[k])}", (k, float(np.nan_to_num(hrs[k]))),
+                        xytext=(6 if right else -6, 3), textcoords="offset points", ha="left" if right else "right",
+                        va="bottom", fontsize=8, bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none",
+                                                       "alpha": 0.85})
         ymax = max([float(np.nanmax(hrs)) if np.isfinite(hrs).any() else 0.0] + [float(v) for v in thresholds.values()])
         if per_window:
             for i, (name, v) in enumerate(per_window.items()):
@@ -71,23 +77,21 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
         for name, ls in (("minimum", (0, (1, 1.5))), ("medium", (0, (4, 2))), ("high", "-")):
             v = float(thresholds[name])
             ax.axhline(v, color="black", linewidth=0.9, linestyle=ls)
-            ax.text(1.01, v, f"{name}\n{fmt_duration(v)}", transform=ax.get_yaxis_transform(), ha="left", va="center", fontsize=6.5)
+            ax.text(1.01, v, f"{name} {fmt_hm(v)}", transform=ax.get_yaxis_transform(), ha="left", va="center", fontsize=8)
         ax.set_xlim(-0.7, max(d, 1) - 0.3)
-        ax.set_ylim(0, 1.18 * ymax if ymax > 0 else 1.0)
+        ax.set_ylim(0, 1.25 * ymax if ymax > 0 else 1.0)
         step = 0.5 if ymax <= 3 else (1.0 if ymax <= 8 else 2.0)
         ax.yaxis.set_major_locator(MultipleLocator(step))
         ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: fmt_hm(v)))
         ax.set_ylabel("sunlight [h:mm]")
-        ticks = [i for i in range(d) if i % 7 == 0]
+        ticks = [i for i in range(d) if i % (7 if d <= 28 else 14) == 0]  # labels 55 px wide at 8 pt
         ax.xaxis.set_major_locator(FixedLocator(ticks))
         ax.set_xticklabels([_date_label(dates[i]) for i in ticks])
         ax.spines[["top", "right"]].set_visible(False)
         if per_window:
-            fig.legend(loc="upper right", bbox_to_anchor=(0.82, 0.93), fontsize=6.5, ncols=min(len(per_window), 4))
-        if title:
-            fig.text(0.02, 0.985, title, ha="left", va="top", fontsize=9)
+            fig.legend(loc="upper right", bbox_to_anchor=(0.74, 0.99), fontsize=8, ncols=min(len(per_window), 3))
 
-    return _render(draw, CHART_SIZE_IN)
+    return _render(draw, (CHART_SIZE_IN[0] * 100, CHART_SIZE_IN[1] * 100), fmt=fmt)
 
 
 def tornado(rows: Sequence[tuple[str, float, float, float]], *, title: str = "") -> bytes:
@@ -130,8 +134,8 @@ def tornado(rows: Sequence[tuple[str, float, float, float]], *, title: str = "")
 
         fig.legend(handles=[Patch(facecolor="#31688e", edgecolor="black", linewidth=0.4, label="low choice"),
                             Patch(facecolor="#fde725", edgecolor="black", linewidth=0.4, label="high choice")],
-                   loc="upper right", bbox_to_anchor=(0.99, 0.995), ncols=2, fontsize=6.5)
+                   loc="upper right", bbox_to_anchor=(0.99, 0.995), ncols=2, fontsize=8)
         if title:
             fig.text(0.02, 0.99, title, ha="left", va="top", fontsize=9)
 
-    return _render(draw, (5.0, height))
+    return _render(draw, (500, height * 100), scale=1.0)

@@ -13,15 +13,18 @@ import numpy as np
 
 from en17037cli.geometry.fisheye import fisheye_directions, fisheye_pixel_xy, fisheye_xy
 from en17037cli.report.pictures import colours
-from en17037cli.report.pictures.canvas import DPI, _fmt_num, _legend, _render
+from en17037cli.report.pictures.canvas import DPI, _fmt_num, _legend, _render, image_at, layout_px
 
 __all__ = ["fisheye", "fisheye_directions", "fisheye_pixel", "fisheye_pixel_xy", "fisheye_xy"]
 
 #: Figure size [in] (width, height).
-FISHEYE_SIZE_IN = (5.6, 4.0)
+FISHEYE_SIZE_IN = (5.0, 3.6)
 #: Fisheye: centre of the 180 deg circle [px] (column, row from the top of the PNG) and its radius [px].
-FISHEYE_CENTRE_PX = (190, 205)
-FISHEYE_RADIUS_PX = 160
+FISHEYE_CENTRE_PX = (160, 185)
+FISHEYE_RADIUS_PX = 140
+#: Hour labels closer than this to one already drawn are left out [px] (at 8 pt printed at PRINT_SCALE,
+#: "07:00" is 51 px wide).
+HOUR_LABEL_GAP_PX = 56
 
 
 def fisheye_pixel(x, y) -> tuple[np.ndarray, np.ndarray]:
@@ -74,7 +77,8 @@ def _nan_joined(xs: np.ndarray, ys: np.ndarray, runs: list[tuple[int, int]]) -> 
     return (np.concatenate(px), np.concatenate(py)) if px else (np.zeros(0), np.zeros(0))
 
 
-def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_azimuth_deg: float, title: str = "") -> bytes:
+def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_azimuth_deg: float, title: str = "",
+            fmt: str = "png"):
     """What a person at point P sees through the window: an equidistant fisheye with the sun's paths.
 
     The optical axis is horizontal at ``view_azimuth_deg`` (the window's outward normal), the field
@@ -93,7 +97,8 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
         "visible": (t,) bool, "hour_marks": [(azimuth_deg, altitude_deg, "10:00"), ...]}``
     min_altitude_deg : float [deg], the lowest sun altitude that counts (clause 5.3)
     view_azimuth_deg : float [deg], clockwise from true north
-    title : str
+    title : str, not drawn: the reports caption the picture
+    fmt : "png", "svg" or "both"
 
     Returns
     -------
@@ -112,13 +117,13 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
     def draw(fig):
         from matplotlib.lines import Line2D
         from matplotlib.patches import Circle
-        from matplotlib.transforms import Affine2D, IdentityTransform
+        from matplotlib.transforms import Affine2D
 
-        px = IdentityTransform()
-        T = Affine2D().scale(R).translate(cx, cy)
+        px = layout_px(fig)
+        T = Affine2D().scale(R).translate(cx, cy) + px
         line = lambda x, y, **kw: fig.add_artist(Line2D(x, y, transform=T, **kw))
         text = lambda x, y, s, dy=0.0, **kw: fig.text(cx + R * x, cy + R * y + dy * pt, s, transform=px, **kw)
-        fig.figimage(raster, xo=int(cx - R), yo=int(cy - R), origin="upper")
+        image_at(fig, raster, (int(cx - R), int(cy - R), raster.shape[1], raster.shape[0]))
         fig.add_artist(Circle((0, 0), 1.0, fill=False, edgecolor="black", linewidth=1.0, transform=T))
         line([-1, 1], [0, 0], color="black", linewidth=0.5, alpha=0.6)  # horizon
         # minimum sun altitude: the curve altitude = const within the field
@@ -146,13 +151,16 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
                     line(jx, jy, color=colours.SUN_PATH_COLOUR, linewidth=lw, linestyle=ls, solid_capstyle="butt")
             top = int(np.argmax(np.where(ok, y, -np.inf)))
             if p.get("label"):
-                    text(x[top], y[top], str(p["label"]), dy=4, ha="center", va="bottom", fontsize=6.5,
+                    text(x[top], y[top], str(p["label"]), dy=4, ha="center", va="bottom", fontsize=8,
                      bbox=boxed | {"boxstyle": "round,pad=0.15"})
             for ma, mh, lab in p.get("hour_marks", ()):
                 hx, hy = fisheye_xy(ma, mh, view_azimuth_deg)
                 if mh >= 0 and float(np.hypot(hx, hy)) <= 1.0:
                     marks.setdefault(str(lab), []).append((float(hx), float(hy)))
-        # hour marks: a dot on each path, the same hour joined across the dates, labelled once below
+        # hour marks: a dot on each path, the same hour joined across the dates, labelled once below; a
+        # label that would touch the previous one kept is left out (at 8 pt an hour's label is wider
+        # than the hour's step near the horizon)
+        kept: list = []
         for lab, xy in marks.items():
             xy_a = np.array(xy)
             if len(xy_a) > 1:
@@ -160,7 +168,9 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
             line(xy_a[:, 0], xy_a[:, 1], linestyle="none", marker="o", markersize=2.8, color="black", markeredgecolor="white",
                  markeredgewidth=0.5)
             low = xy_a[int(np.argmin(xy_a[:, 1]))]
-            text(low[0], low[1], lab, dy=-4, ha="center", va="top", fontsize=5.5, bbox=boxed)
+            if all(abs(R * (low[0] - k[0])) > HOUR_LABEL_GAP_PX or abs(R * (low[1] - k[1])) > 14 for k in kept):
+                text(low[0], low[1], lab, dy=-4, ha="center", va="top", fontsize=8, bbox=boxed)
+                kept.append(low)
         # compass points on the horizon (at the rim where they fall on it)
         for name, c in _COMPASS:
             d = (c - view_azimuth_deg + 180.0) % 360.0 - 180.0
@@ -168,12 +178,10 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
                 x = d / 90.0
                 line([x, x], [-0.03, 0.03], color="black", linewidth=0.8)
                 if abs(d) >= 85.0:
-                    text(math.copysign(1.06, d), 0.0, name, ha="center", va="center", fontsize=7, fontweight="bold")
+                    text(math.copysign(1.07, d), 0.0, name, ha="center", va="center", fontsize=8, fontweight="bold")
                 else:
-                    text(x, -0.05, name, ha="center", va="top", fontsize=7, fontweight="bold", bbox=boxed)
-        text(0.0, 1.0, "zenith", dy=3, ha="center", va="bottom", fontsize=6.5)
-        if title:
-            fig.text(12, height_px - 6, title, ha="left", va="top", fontsize=9, transform=px)
+                    text(x, -0.05, name, ha="center", va="top", fontsize=8, fontweight="bold", bbox=boxed)
+        text(0.0, 1.0, "zenith", dy=3, ha="center", va="bottom", fontsize=8)
         legend_order = (colours.CLASS_SKY, colours.CLASS_LANDSCAPE, colours.CLASS_GROUND, colours.BLOCKED)
         entries = [("patch", colours.CLASS_COLOURS[k], colours.CLASS_NAMES[k]) for k in legend_order]
         entries += [
@@ -184,10 +192,10 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
             ("line", [{"color": "black", "linewidth": 1.8}, {"color": "white", "linewidth": 0.9, "linestyle": (0, (3, 2))}],
              f"sun altitude {_fmt_num(min_altitude_deg)}°"),
         ]
-        _legend(fig, cx + R + 30, cy + R, entries,
-                title=f"looking {_compass_name(view_azimuth_deg)} ({_fmt_num(round(view_azimuth_deg % 360.0, 1))}°)")
+        _legend(fig, cx + R + 22, cy + R, entries,
+                title=f"facing {_compass_name(view_azimuth_deg)} {_fmt_num(round(view_azimuth_deg % 360.0))}°")
 
-    return _render(draw, FISHEYE_SIZE_IN)
+    return _render(draw, (FISHEYE_SIZE_IN[0] * 100, FISHEYE_SIZE_IN[1] * 100), fmt=fmt)
 
 
 def _compass_name(azimuth_deg: float) -> str:

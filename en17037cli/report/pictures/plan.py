@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from en17037cli.report.pictures.canvas import DPI, _colour_bar, _legend, _north_arrow, _render, _scale_bar, _scale_bar_m
+from en17037cli.report.pictures.canvas import _colour_bar, _legend, _north_arrow, _render, _scale_bar, _scale_bar_m, layout_px
 from en17037cli.report.pictures.colours import (
     LAYER_COLOURS,
     LAYER_ORDER,
@@ -18,12 +18,13 @@ from en17037cli.report.pictures.colours import (
     continuous_colours,
 )
 
-#: Figure size [in] (width, height).
-PLAN_SIZE_IN = (5.0, 4.0)
+#: Layout size [in / 100 px] (width, height); printed at PRINT_SCALE of it (3.5 x 2.8 in).
+PLAN_SIZE_IN = (5.0, 3.6)
 #: Plan maps: the box the plan is fitted into [px from the bottom-left] (left, bottom, width, height),
-#: and the colour bar's (left, bottom, width, height) [px].
-PLAN_BOX_PX = (15, 50, 290, 300)
-COLOUR_BAR_PX = (330, 70, 14, 200)
+#: and the colour bar's (left, bottom, width, height) [px]. The picture has no title: the reports
+#: caption it, so nothing long crosses the plan or the north arrow.
+PLAN_BOX_PX = (10, 36, 212, 316)
+COLOUR_BAR_PX = (236, 44, 14, 184)
 
 _KINDS = ("sight_angle", "distance", "layers", "level", "daylight_factor", "share_of_hours")
 _CONTINUOUS = ("sight_angle", "distance", "daylight_factor", "share_of_hours")
@@ -124,7 +125,7 @@ def _cell_squares(xy: np.ndarray, spacing_m: float | None) -> np.ndarray:
 
 
 def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, utilised, windows, true_north_deg: float,
-             near=None, spacing_m: float | None = None, title: str = "") -> bytes:
+             near=None, spacing_m: float | None = None, title: str = "", fmt: str = "png"):
     """A room's plan with one coloured cell per viewpoint, drawn in the room's own orientation.
 
     The plan is rotated by :func:`plan_rotation` (the floor's bounding rectangle axis-parallel,
@@ -149,11 +150,12 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     true_north_deg : float [deg], azimuth of true north clockwise from model +Y
     near : (n,) bool, optional; points within their error estimate of a threshold (ringed)
     spacing_m : float [m], optional; cell side, default the median nearest-neighbour distance
-    title : str
+    title : str, not drawn: the reports caption the picture (kept for callers)
+    fmt : "png", "svg" or "both" (see :func:`~en17037cli.report.pictures.canvas._render`)
 
     Returns
     -------
-    bytes, a PNG image of :data:`PLAN_SIZE_IN` at :data:`DPI`
+    bytes, a PNG image of :data:`PLAN_SIZE_IN` at :data:`DPI` (or the SVG, or both)
     """
     if kind not in _KINDS:
         raise ValueError(f"kind must be one of {', '.join(_KINDS)}, not {kind!r}")
@@ -181,7 +183,7 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
 
     faces, legend, bar = _plan_colours(kind, vals, thresholds)
     ok = np.all(np.isfinite(faces), axis=1)
-    allxy = np.vstack([floor_t, squares.reshape(-1, 2)] + ([util_t] if util_t is not None else []))
+    allxy = np.vstack([floor_t, squares.reshape(-1, 2)] + ([util_t] if util_t is not None else []) + win_t)
     lo, hi = allxy.min(axis=0), allxy.max(axis=0)
     (bx0, by0), (bw, bh) = PLAN_BOX_PX[:2], PLAN_BOX_PX[2:]
     bar_px = 30.0  # room for the scale bar under the plan
@@ -195,10 +197,9 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
         from matplotlib.collections import PolyCollection
         from matplotlib.lines import Line2D
         from matplotlib.patches import Polygon
-        from matplotlib.transforms import Affine2D, IdentityTransform
+        from matplotlib.transforms import Affine2D
 
-        px = IdentityTransform()
-        T = Affine2D().translate(-mid[0], -mid[1]).scale(scale).translate(ox, oy)
+        T = Affine2D().translate(-mid[0], -mid[1]).scale(scale).translate(ox, oy) + layout_px(fig)
         if ok.any():
             # not anti-aliased: neighbouring cells share their edges without a light seam
             fig.add_artist(PolyCollection(squares[ok], facecolors=faces[ok], edgecolors="none", antialiased=False, transform=T))
@@ -219,20 +220,18 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
         # on whole pixels, so that rounding in the plan's extent does not shade it differently
         x0, y0, L = round(ox + (lo[0] - mid[0]) * scale), round(oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0), round(sb * scale)
         _scale_bar(fig, x0, y0, L, sb)
-        if title:
-            fig.text(12, PLAN_SIZE_IN[1] * DPI - 8, title, ha="left", va="top", fontsize=9, transform=px)
-        _north_arrow(fig, (420.0, 350.0), north)
+        _north_arrow(fig, (462.0, 320.0), north)
         near_entry = [("marker", {"marker": "o", "markersize": 5, "markerfacecolor": "none", "markeredgecolor": "black"},
                        "within error of a threshold")] if has_near else []
         if bar is not None:
             _colour_bar(fig, COLOUR_BAR_PX, *bar)
             if near_entry:
-                _legend(fig, 318.0, 30.0, near_entry)
+                _legend(fig, 232.0, 30.0, near_entry)
         else:
-            _legend(fig, 318.0, 300.0, [("patch", c, lab) for c, lab in legend] + near_entry,
+            _legend(fig, 232.0, 268.0, [("patch", c, lab) for c, lab in legend] + near_entry,
                     title="level" if kind == "level" else "layers seen")
 
-    return _render(draw, PLAN_SIZE_IN)
+    return _render(draw, (PLAN_SIZE_IN[0] * 100, PLAN_SIZE_IN[1] * 100), fmt=fmt)
 
 
 def _plan_colours(kind: str, vals: np.ndarray, thresholds: dict | None):
@@ -257,7 +256,8 @@ def _plan_colours(kind: str, vals: np.ndarray, thresholds: dict | None):
         position[list(LAYER_ORDER)] = np.arange(8)  # bitmask -> place in the luminance order
         ok &= (code >= 0) & (code <= 7)
         idx = position[np.clip(code, 0, 7)]
-        legend = [(LAYER_COLOURS[i], _layer_legend(LAYER_ORDER[i])) for i in reversed(range(8))]
+        present = set(np.clip(idx[ok], 0, 7).tolist())  # only the combinations the map shows
+        legend = [(LAYER_COLOURS[i], _layer_legend(LAYER_ORDER[i])) for i in reversed(range(8)) if i in present]
     faces[ok, :3] = table[np.clip(idx[ok], 0, len(table) - 1)]
     faces[ok, 3] = 1.0
     return faces, legend, None

@@ -1,0 +1,41 @@
+"""What ``en17037 validate --json`` prints: the same findings as its text, as one JSON document."""
+from __future__ import annotations
+
+from en17037cli.report.numbers import json_number
+
+
+def validation_document(project_file, project, scene, pf, budget: int) -> dict:
+    """The scene as ``check`` will see it: faces per layer, what each file's reader read, the
+    estimated cost, each room's floor, ceiling and windows (with why each bounds it) and the
+    criteria that cannot assess it, windows in no room, dwellings, warnings and notes.
+
+    Heights are in the model's frame [m]; areas [m²].
+    """
+    z0 = float(scene.origin[2])
+    bounding = {w.name for room in scene.rooms for w in room.windows}
+    rooms = []
+    for room in scene.rooms:
+        entry = {"name": room.name, "storey": room.storey or None, "problem": room.problem}
+        if not room.problem:
+            entry.update({
+                "floor_area_m2": json_number(room.floor.area, 3), "floor_z_m": json_number(room.floor_z + z0, 3),
+                "floor_source": room.floor_source, "ceiling_z_m": json_number(room.ceiling_z + z0, 3),
+                "ceiling_source": room.ceiling_source,
+                "windows": [{"name": w.name, "area_m2": json_number(w.area_m2, 3),
+                             "outward_normal": [json_number(c, 4) for c in w.normal], "faces": len(w.face_ids),
+                             "reason": room.window_reasons.get(w.name)} for w in room.windows]})
+        entry["not_assessable"] = {crit: rooms_[room.name] for crit, rooms_ in pf.unassessable.items() if room.name in rooms_}
+        rooms.append(entry)
+    doc = {
+        "project": str(project_file), "valid": True,
+        "faces_per_layer": scene.layer_counts(),
+        "read": [{"file": display, "summary": line} for display, line in getattr(scene, "read", [])],
+        "estimated_cost": {"viewpoints": int(pf.points), "sampling_cells": json_number(pf.cells, 0), "budget_viewpoints": budget},
+        "rooms": rooms,
+        "spaces_left_out": [str(getattr(s, "name", s)) for s in scene.left_out],
+        "windows_in_no_room": [w.name for w in scene.windows if w.name not in bounding],
+        "dwellings": ([{"name": d.name, "source": d.source, "rooms": list(d.rooms), "main_rooms": list(d.main_rooms)}
+                       for d in pf.dwellings] if project.dwellings is not None else []),
+        "warnings": list(pf.warnings), "notes": list(scene.notes),
+    }
+    return doc
