@@ -337,7 +337,7 @@ def _target_kinds():
               help="Run only this ladder, e.g. view.angular_resolution_deg (repeatable) [default: all].")
 @click.option("--target", "targets", multiple=True,
               type=KindValue(_target_kinds),
-              help="Error target: angle_deg, solid_angle_sr, distance_m, hours_s, share_pp, daylight_factor_pct, share_of_hours (repeatable).")
+              help="Error target: angle_deg, solid_angle_sr, distance_m, sun_time_s, share_pp, daylight_factor_pct, share_of_hours (repeatable).")
 @click.option("--points", "max_points", type=click.IntRange(1), default=None,
               help="Use at most this many viewpoints per room and eye height (spread evenly).")
 @set_option
@@ -363,17 +363,19 @@ def convergence(project_file: Path, out_dir: Path, ladders, targets, max_points,
     res = guard(run)
     console = Console(width=max(Console().width, 120))
     table = Table(title=f"Convergence of {project_file}")
-    for col in ("knob", "value", "quantity", "max error", "estimate", "over est.", "target", "ok", "time s", "rays"):
+    for col in ("knob", "value", "quantity", "max error", "estimate", "over est.", "target", "unit", "ok", "time s", "rays"):
         table.add_column(col, justify="right")
     for r in res["rows"]:
         table.add_row(r["ladder"], st.fmt_value(r["value"]), r["quantity"], f"{r['error']:.3g}", f"{r['estimate']:.3g}",
-                      "-" if r["over_estimate"] < 0 else str(r["over_estimate"]), f"{r['target']:g}",
+                      "-" if r["over_estimate"] < 0 else str(r["over_estimate"]), f"{r['target']:g}", st.UNITS.get(r["kind"], ""),
                       "yes" if r["within_target"] else "no", f"{r['wall_s']:.3f}", str(r["rays"]))
     console.print(table)
     for (knob, q), p in res["orders"].items():
         console.print(f"observed order of {q} in {knob}: " + ("at round-off or too few rungs" if p != p else f"{p:.2f}"))
+    ladders_run = {lad.knob: lad for lad in st.LADDERS}
     for knob, v in res["cheapest"].items():
-        console.print(f"cheapest {knob} within the targets: " + ("none of the rungs" if v is None else st.fmt_value(v)))
+        console.print(f"cheapest {knob} within the targets: " + ("none of the rungs" if v is None else
+                                                                  "--set " + st.rung_settings(ladders_run[knob], v).replace(", ", " --set ")))
     console.print(f"wrote {out_dir / 'convergence.csv'}" + (f" and {res['png']}" if res["png"] else
                                                              " (install matplotlib for convergence.png)"))
 

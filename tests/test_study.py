@@ -17,12 +17,12 @@ def test_tolerance_ladder_converges_at_first_order(tmp_path):
     """Bisection halves the bracket per step: the error of the hours falls like the tolerance (the
     sampled method, whose brackets start at the timestep; the exact method's start at its knots)."""
     path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=SUN)
-    lad = study.Ladder("sunlight.tolerance_s", (30.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("hours",),
+    lad = study.Ladder("sunlight.tolerance_s", (30.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("sun_time",),
                        extra={"sunlight.method": "sampled"})
     res = study.convergence(path, tmp_path / "out", (lad,), log=lambda m: None)
     errors = [r["error"] for r in res["rows"]]
     assert all(a >= b for a, b in zip(errors, errors[1:]))  # finer never worse
-    assert 0.7 < res["orders"][("sunlight.tolerance_s", "hours")] < 1.3
+    assert 0.7 < res["orders"][("sunlight.tolerance_s", "sun_time")] < 1.3
     # each rung's own estimate covers its error (against a reference 1000 times finer)
     assert all(r["error"] <= r["estimate"] + 0.01 for r in res["rows"])
     assert all(r["over_estimate"] == 0 for r in res["rows"])  # day by day, not only the largest

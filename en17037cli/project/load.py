@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.project.overrides import apply_overrides
+from en17037cli.project.overrides import apply_overrides, moot_overrides
 from en17037cli.project.schema import fill_defaults, key_path, validation_errors
 from en17037cli.project.settings import (
     Location,
@@ -154,7 +154,8 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
     if "daylight" in config:  # clause 5.1 is asked at the lowest level unless the project says otherwise
         config["requirements"].setdefault("daylight", "minimum")
     _check_consistency(path, config)
-    return replace(_settings(path, config), practice=config["practice"], practice_set=practice_set)
+    return replace(_settings(path, config), practice=config["practice"], practice_set=practice_set,
+                   warnings=tuple(moot_overrides(config, overrides or [])))
 
 
 def apply_practice(document: dict) -> tuple[tuple[str, object], ...]:

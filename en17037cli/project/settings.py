@@ -260,6 +260,7 @@ class Project:
     dwellings: DwellingsSpec | None = None
     practice: str = "en17037"
     practice_set: tuple[tuple[str, object], ...] = ()  # the values the practice set (key path, value)
+    warnings: tuple[str, ...] = ()  # overrides that change nothing under these settings, with why
 
     @property
     def directory(self) -> Path:

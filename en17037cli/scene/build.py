@@ -81,7 +81,7 @@ def build_scene(project: Project) -> Scene:
     if north_src:
         resolved["model.true_north_deg"] = north_src
     scene = Scene(vertices=local, triangles=g.triangles, layer=g.layer, obstructs_sun=g.obstructs_sun, parts=g.parts,
-                  part=g.part, notes=g.notes, warnings=g.warnings, file_hashes=g.file_hashes, sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read,
+                  part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings], file_hashes=g.file_hashes, sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     check_glazing_over_opaque(local, g.triangles, g.layer, windows, scene.part_label, g.part, where)
     for spec in project.rooms:

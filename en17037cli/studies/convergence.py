@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 #: Default error targets per kind of quantity (overridable with ``--target kind=value``).
-TARGETS = {"angle_deg": 0.01, "solid_angle_sr": 1e-3, "distance_m": 1e-3, "hours_s": 2.0, "share_pp": 5.0,
+TARGETS = {"angle_deg": 0.01, "solid_angle_sr": 1e-3, "distance_m": 1e-3, "sun_time_s": 2.0, "share_pp": 5.0,
            "daylight_factor_pct": 0.1, "share_of_hours": 0.02}
 
 #: Errors below this fraction of the target are round-off: left out of the order fit (so are
@@ -47,7 +47,7 @@ QUANTITIES = {
     "sight_angle": Quantity("sight_angle", "angle_deg", "view"),
     "distance": Quantity("distance", "distance_m", "view"),
     "share_medium": Quantity("share_medium", "share_pp", "view"),
-    "hours": Quantity("hours", "hours_s", "sunlight"),
+    "sun_time": Quantity("sun_time", "sun_time_s", "sunlight"),  # the hours of sun, its error in seconds
     # daylight provision: D per point (method 1) or the share of daylight hours per point and target (method 2)
     "daylight_factor": Quantity("daylight_factor", "daylight_factor_pct", "daylight"),
     "share_of_hours": Quantity("share_of_hours", "share_of_hours", "daylight"),
@@ -87,8 +87,8 @@ LADDERS = (
     Ladder("view.grid_spacing_m", (2.0, 1.0, 0.5), {"view.grid_spacing_m": 0.25}, ("share_medium",), per_point=False),
     # the sampled method's timestep against the exact method (edge crossings) at a finer tolerance
     Ladder("sunlight.timestep_min", (60.0, 15.0, 5.0, 2.0, 1.0), {"sunlight.method": "exact", "sunlight.tolerance_s": 0.001},
-           ("hours",), extra={"sunlight.tolerance_s": 0.01, "sunlight.method": "sampled"}),
-    Ladder("sunlight.tolerance_s", (60.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("hours",)),
+           ("sun_time",), extra={"sunlight.tolerance_s": 0.01, "sunlight.method": "sampled"}),
+    Ladder("sunlight.tolerance_s", (60.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("sun_time",)),
     # Radiance's ambient bounces and divisions against a run with more of both (Monte Carlo: the
     # reference carries its own error estimate, which the error of a rung cannot go below)
     Ladder("daylight.radiance.ab", (1, 2, 3, 5), DAYLIGHT_REFERENCE, ("daylight_factor", "share_of_hours")),
@@ -98,6 +98,17 @@ LADDERS = (
 
 def fmt_value(v) -> str:
     return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+#: The unit of each kind of error, for tables.
+UNITS = {"angle_deg": "deg", "solid_angle_sr": "sr", "distance_m": "m", "sun_time_s": "s", "share_pp": "pp",
+         "daylight_factor_pct": "%", "share_of_hours": ""}
+
+
+def rung_settings(lad: Ladder, value) -> str:
+    """The settings a rung runs with, as ``--set`` arguments would give them: the knob and the
+    ladder's ``extra`` overrides (the timestep ladder runs the sampled method)."""
+    return ", ".join(f"{k}={fmt_value(v)}" for k, v in {lad.knob: value, **lad.extra}.items())
 
 
 class Runner:
@@ -141,7 +152,7 @@ class Runner:
             return _view_values(res), wall, self.engine.rays_traced
         if check == "daylight":
             return _daylight_values(res), wall, 0
-        return {"hours": (np.concatenate([x.hours for x in res]) * 3600.0,
+        return {"sun_time": (np.concatenate([x.hours for x in res]) * 3600.0,
                           np.concatenate([x.error_h for x in res]) * 3600.0)}, wall, self.engine.rays_traced
 
 
