@@ -83,7 +83,7 @@ def build_scene(project: Project) -> Scene:
     scene = Scene(vertices=local, triangles=g.triangles, layer=g.layer, obstructs_sun=g.obstructs_sun, parts=g.parts,
                   part=g.part, notes=g.notes, warnings=g.warnings, file_hashes=g.file_hashes, sites=g.sites, spaces=g.spaces,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
-    check_glazing_over_opaque(local, g.triangles, g.layer, windows, scene.part_label, g.part, where)
+    check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where)
     for spec in project.rooms:
         if spec.ifc_spaces is not None:
             scene.rooms.extend(rooms_from_spaces(scene, spec, f"{where}: rooms[{spec.index}]"))

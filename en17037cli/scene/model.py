@@ -40,6 +40,7 @@ class Window:
     normal: np.ndarray
     area_m2: float
     key: str | None = None  # the product the window belongs to (an IfcWindow's GlobalId), where the file says
+    host: tuple[str, ...] = ()  # ids of the objects its opening is cut in (the wall), where the file says (Part.host)
 
     @property
     def centroid(self) -> np.ndarray:
@@ -59,7 +60,7 @@ class Window:
 
     def facing(self, normal: np.ndarray) -> Window:
         """The same window with ``normal`` as its outward normal."""
-        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key)
+        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key, self.host)
 
 
 @dataclass
