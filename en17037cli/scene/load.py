@@ -193,8 +193,9 @@ def placed_space(space: Space, spec: ModelFile) -> Space:
         return space
     move = lambda xy: transformed(np.column_stack([xy, np.zeros(len(xy))]), t)[:, :2]  # noqa: E731
     dz = float(t.translate_m[2])
+    body = None if space.body is None else transformed(space.body.reshape(-1, 3), t).reshape(space.body.shape)
     return replace(space, footprint=move(space.footprint), holes=tuple(move(h) for h in space.holes),
-                   floor_z=space.floor_z + dz, top_z=space.top_z + dz)
+                   floor_z=space.floor_z + dz, top_z=space.top_z + dz, body=body)
 
 
 def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> Geometry:

@@ -89,6 +89,19 @@ class Room:
     storey: str = ""  # the IFC building storey of the room's space
 
 
+@dataclass(frozen=True)
+class LeftOut:
+    """A space of the model the project picked that is not a room of the check, and why.
+
+    windows : names of the windows that open into it (by geometry or by the model's space
+        boundaries): a space with windows left out is not assessed, and the run cannot pass
+    """
+
+    name: str
+    reason: str
+    windows: tuple[str, ...] = ()
+
+
 @dataclass
 class Geometry:
     """Faces with their layers and parts, and what the files say of the site and their spaces.
@@ -128,7 +141,10 @@ class Scene(Geometry):
     true_north_deg: float = 0.0
     location: Location | None = None
     resolved: dict = field(default_factory=dict)
-    left_out: list[str] = field(default_factory=list)  # spaces the project picked that no window bounds
+    left_out: list[LeftOut] = field(default_factory=list)  # spaces the project picked that are not rooms, and why
+    #: what the model's spaces and windows are to each other (see scene/spaces.py): None before rooms are made
+    space_windows: object = None
+    cache: dict = field(default_factory=dict, repr=False, compare=False)  # lookups built once per scene
     _boxes: tuple = field(default=(None,), repr=False, compare=False)  # cache of window_boxes
 
 
