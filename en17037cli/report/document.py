@@ -34,9 +34,17 @@ def summary(result: RunResult) -> dict:
     """Counts for people and pipelines: rooms meeting view, dwellings meeting sunlight."""
     view = [r.status("view") for r in result.rooms if r.status("view") is not None]
     sun = [d.status for d in result.dwellings if d.status is not None]
-    return {"rooms": len(result.rooms), "rooms_view_required": len(view), "rooms_view_pass": view.count("pass"),
-            "dwellings": len(result.dwellings), "dwellings_sunlight_required": len(sun),
-            "dwellings_sunlight_pass": sun.count("pass")}
+    out = {"rooms": len(result.rooms), "rooms_view_required": len(view), "rooms_view_pass": view.count("pass"),
+           "dwellings": len(result.dwellings), "dwellings_sunlight_required": len(sun),
+           "dwellings_sunlight_pass": sun.count("pass")}
+    if result.scene.spaces:  # rooms from a model's spaces: the ones with windows that could not be assessed
+        out["spaces_with_windows_not_assessed"] = sum(1 for lo in result.scene.left_out if lo.windows)
+    return out
+
+
+def spaces_entry(scene) -> dict:
+    """The model's spaces the project picked that are not rooms of the check, and why (models with spaces only)."""
+    return {"spaces_left_out": [{"name": lo.name, "reason": lo.reason, "windows": list(lo.windows)} for lo in scene.left_out]}
 
 
 def build_report(result: RunResult) -> dict:
@@ -87,6 +95,7 @@ def build_report(result: RunResult) -> dict:
         "summary": summary(result),
         "dwellings": [dwelling_entry(d, project.requirements.sunlight_rooms) for d in result.dwellings],
         "rooms": rooms,
+        **(spaces_entry(scene) if scene.spaces else {}),
         "warnings": list(result.warnings),
         "notes": notes,
         "rays_traced": int(result.rays_traced),

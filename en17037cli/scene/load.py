@@ -229,7 +229,8 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
                  np.concatenate(all_s), parts, np.concatenate(all_p), notes, warnings, hashes,
                  sites=[(f.spec.display, f.mesh.site, f.spec.transform.rotate_deg if f.spec.transform else 0.0)
                         for f in files if f.mesh.site is not None],
-                 spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces])
+                 spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces],
+                 windows_left_out=[(f.spec.display, *w) for f in files for w in f.mesh.windows_left_out])
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
                          "degenerate, NaN or infinite (zero area); re-export the glazing")

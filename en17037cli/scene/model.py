@@ -111,6 +111,7 @@ class Geometry:
     part : (m,) int64 index into ``parts`` (each part's attributes include ``file``)
     sites : (file, Site, the file's rotation [deg]) of files that say where they stand
     spaces : (file, Space) of files that define rooms (IfcSpace), placed like their file's faces
+    windows_left_out : (file, window label, why) of windows the files define that give no glazing
     """
 
     vertices: np.ndarray
@@ -124,6 +125,8 @@ class Geometry:
     file_hashes: dict[str, str] = field(default_factory=dict)
     sites: list = field(default_factory=list)
     spaces: list = field(default_factory=list)
+    #: (file, window label, why) of windows the files define that give no glazing (Mesh.windows_left_out)
+    windows_left_out: list = field(default_factory=list)
 
 
 @dataclass(kw_only=True)

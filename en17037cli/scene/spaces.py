@@ -274,8 +274,23 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     return rooms
 
 
-def unmatched_windows(scene: Scene) -> list[tuple[str, str]]:
-    """(window name, why) of the windows that open into no space (after rooms from spaces are made)."""
-    if scene.space_windows is None:
-        return []
-    return [(w.name, m.why) for w, m in zip(scene.windows, scene.space_windows) if not m.spaces]  # type: ignore[call-overload]
+def windows_in_no_room(scene: Scene) -> list[tuple[str, str]]:
+    """(window name, why) of each window of the model that is in no room of the project: it opens
+    into no space (the matching's reason), or into spaces the project does not make rooms."""
+    in_room = {w.name for r in scene.rooms for w in r.windows}
+    spaces = [s for _, s in scene.spaces]
+    left = {lo.name: lo.reason for lo in scene.left_out}
+    out = []
+    for k, w in enumerate(scene.windows):
+        if w.name in in_room:
+            continue
+        m = scene.space_windows[k] if scene.space_windows is not None else None  # type: ignore[index]
+        if m is None:
+            out.append((w.name, "it bounds no room of the project"))
+        elif not m.spaces:
+            out.append((w.name, m.why))
+        else:
+            names = [room_name(spaces[i]) for i, _, _ in m.spaces]
+            why = "; ".join(f"'{n}' is left out ({left[n]})" if n in left else f"no rooms[] entry picks '{n}'" for n in names)
+            out.append((w.name, f"it opens into {', '.join(repr(n) for n in names)}: {why}"))
+    return out
