@@ -35,7 +35,8 @@ def authoring_tool(path: Path) -> tuple[str, str]:
     schema = (re.search(r"FILE_SCHEMA\s*\(\s*\(\s*'([^']+)'", head) or [None, "?"])[1]
     app = re.search(r"IFCAPPLICATION\s*\([^,]*,\s*'([^']*)'\s*,\s*'([^']*)'", head, re.I)
     if app:
-        return f"{app[2].strip()} {app[1].strip()}".strip(), schema
+        name, version = app[2].strip(), app[1].strip()
+        return (name if version in name else f"{name} {version}").strip(), schema
     name = re.search(r"FILE_NAME\s*\((?:'(?:[^']|'')*'\s*,\s*){5}'((?:[^']|'')*)'", head)
     return (name[1] if name and name[1] else "?"), schema
 
@@ -44,7 +45,7 @@ def site_longitude(path: Path) -> float | None:
     """The IfcSite's RefLongitude [deg], or None (ifcopenshell, which the ifc extra brings)."""
     import ifcopenshell
 
-    from en17037cli.io.ifc import compound_degrees
+    from en17037cli.io.ifc_site import compound_degrees
 
     sites = ifcopenshell.open(str(path)).by_type("IfcSite")
     return compound_degrees(sites[0].RefLongitude) if sites else None

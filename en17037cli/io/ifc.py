@@ -13,9 +13,12 @@ of its faces, so the glass and the frame of an IfcWindow are separate parts:
 | `material` | the name of the surface style or material of those faces, where the file names one |
 | `surface` | `glazing` (transparent parts of windows, doors, curtain walls and plates) or `frame` |
 
-A piece is transparent when its surface style has a transparency of 0.5 or more, or, where the
-file gives no transparency, when its style or material is named like glass ("glass", "glazing",
-"glas", "verre", "vitrage"). Default layers (the project's rules win, matching any attribute):
+Which faces are glass is decided by the file's own semantics (:mod:`~en17037cli.io.ifc_glazing`:
+transparent styles, glass names, else the thin panes of an IfcWindow's geometry, the plates of a
+curtain wall). Each part also carries ``Part.host`` (the element its opening is cut in:
+IfcRelFillsElement -> IfcOpeningElement -> IfcRelVoidsElement; a plate's curtain wall) and
+``Part.assembly`` (IfcRelAggregates). Default layers (the project's rules win, matching any
+attribute):
 
 | IFC class | layer |
 |---|---|
@@ -23,34 +26,23 @@ file gives no transparency, when its style or material is named like glass ("gla
 | opaque parts of windows and doors (frames, mullions), `IfcWall`, `IfcWallStandardCase`, `IfcSlab`, `IfcRoof`, `IfcDoor`, `IfcColumn`, `IfcBeam`, `IfcMember`, `IfcPlate`, `IfcRailing`, `IfcStair`, `IfcStairFlight`, `IfcRamp`, `IfcCovering`, `IfcCurtainWall`, `IfcFooting`, `IfcChimney`, `IfcShadingDevice` | interior |
 | `IfcSite` | ground |
 | `IfcBuildingElementProxy`, `IfcGeographicElement` | landscape |
-| `IfcSpace`, `IfcOpeningElement`, `IfcAnnotation`, `IfcGrid`, `IfcVirtualElement`, furniture (`IfcFurnishingElement`, `IfcFurniture`), MEP (`IfcDistributionElement` and its subtypes: ducts, pipes, fittings, terminals...) | ignore (not tessellated) |
+| `IfcSpace`, `IfcOpeningElement`, `IfcSpatialZone`, `IfcAnnotation`, `IfcGrid`, `IfcVirtualElement`, furniture (`IfcFurnishingElement`, `IfcFurniture`), MEP (`IfcDistributionElement` and its subtypes: ducts, pipes, fittings, terminals...) | ignore (not tessellated) |
 | any other class | interior |
 
 All glazing parts of one IfcWindow (or door, curtain wall, plate) share ``Part.window`` = its
 GlobalId: its panes together make one window, named after the product. Glass modelled as thin
 solids keeps all its faces here; the scene keeps one surface of each pane.
 
-Spaces (IfcSpace) become :class:`~en17037cli.io.mesh.Space`: the footprint is the union of the
-downward faces at the bottom of its body, ``floor_z`` and ``top_z`` its lowest and highest
-points, ``windows`` the GlobalIds of the windows its IfcRelSpaceBoundary relations name, ``zones``
-the names of the IfcZone and IfcSpatialZone groups it belongs to.
-
-The site (:class:`~en17037cli.io.mesh.Site`): latitude and longitude from IfcSite RefLatitude
-and RefLongitude (compound degrees, minutes, seconds, millionths), elevation from RefElevation,
-true north from the TrueNorth of the model's geometric context (a direction (x, y) in the project
-frame: azimuth clockwise from +Y = atan2(x, y)). Where the file has an IfcMapConversion (IFC4 and
-later), every vertex and footprint is placed in the map: E = Eastings + Scale (x a - y b),
-N = Northings + Scale (x b + y a), H = OrthogonalHeight + z, with (a, b) the normalised
-(XAxisAbscissa, XAxisOrdinate); the CRS is the IfcProjectedCRS Name (``EPSG:nnnn``); true north
-turns with the map rotation (the map's grid north is then +Y; the meridian convergence between
-grid and true north, under 1 deg in most national grids, is not applied).
+Spaces: :mod:`~en17037cli.io.ifc_spaces`; site, north and map placement:
+:mod:`~en17037cli.io.ifc_site`; the STEP text's quirks: :mod:`~en17037cli.io.ifc_step`. Elements
+the geometry iterator cannot tessellate are named in a warning (class, Name, GlobalId and
+ifcopenshell's error). See docs/bim.md.
 
 References: buildingSMART IFC4 ADD2 TC1, IfcMapConversion (8.18.3.6), IfcSite (5.4.3.4),
 IfcGeometricRepresentationContext (8.18.3.4), IfcRelSpaceBoundary (6.1.3.20), IfcZone (5.4.3.5).
 """
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 
@@ -68,9 +60,10 @@ from en17037cli.io.ifc_glazing import (
     pane_faces,
     principal_normal,
 )
+from en17037cli.io.ifc_site import apply_map, map_conversion, site_of
 from en17037cli.io.ifc_spaces import read_spaces, storey_of
 from en17037cli.io.ifc_step import check_all_read, repair_derived_markers
-from en17037cli.io.mesh import Mesh, Part, Site
+from en17037cli.io.mesh import Mesh, Part
 
 #: Classes not tessellated at all.
 IGNORED = ("IfcSpace", "IfcOpeningElement", "IfcAnnotation", "IfcGrid", "IfcVirtualElement", "IfcFurnishingElement",
@@ -115,66 +108,6 @@ def _open(path: Path) -> tuple[object, list[str]]:
                      f"unset ('$'), in {names}: not valid STEP (ISO 10303-21 12.2.2); without this ifcopenshell leaves "
                      "those elements out")
     return f, notes
-
-
-def compound_degrees(v) -> float | None:
-    """Degrees of an IfcCompoundPlaneAngleMeasure (deg, min, sec[, millionths]), signs alike."""
-    if not v:
-        return None
-    parts = list(v) + [0] * (4 - len(v))
-    return float(parts[0] + parts[1] / 60 + parts[2] / 3600 + parts[3] / 3.6e9)
-
-
-def _map_conversion(f):
-    """(Eastings, Northings, height, a, b, scale, crs name) of the model context's IfcMapConversion, or None."""
-    if f.schema == "IFC2X3":
-        return None
-    convs = f.by_type("IfcMapConversion")
-    if not convs:
-        return None
-    c = convs[0]
-    a, b = (c.XAxisAbscissa if c.XAxisAbscissa is not None else 1.0), (c.XAxisOrdinate or 0.0)
-    r = math.hypot(a, b) or 1.0
-    crs = getattr(c.TargetCRS, "Name", None)
-    if crs and crs.upper().replace("EPSG::", "EPSG:").startswith("EPSG:"):
-        crs = "EPSG:" + crs.split(":")[-1].strip()
-    return (float(c.Eastings), float(c.Northings), float(c.OrthogonalHeight or 0.0), a / r, b / r,
-            float(c.Scale if c.Scale is not None else 1.0), crs)
-
-
-def _apply_map(xyz: np.ndarray, m) -> np.ndarray:
-    e, n, h, a, b, s, _ = m
-    x, y = xyz[:, 0], xyz[:, 1]
-    return np.column_stack([e + s * (x * a - y * b), n + s * (x * b + y * a), h + xyz[:, 2]])
-
-
-def _site(f, path: Path, m) -> Site | None:
-    lat = lon = elev = None
-    src = []
-    sites = f.by_type("IfcSite")
-    if sites:
-        s = sites[0]
-        lat, lon = compound_degrees(s.RefLatitude), compound_degrees(s.RefLongitude)
-        elev = float(s.RefElevation) if s.RefElevation is not None else None
-        if lat is not None:
-            src.append("latitude and longitude from IfcSite RefLatitude/RefLongitude")
-    north = None
-    for ctx in f.by_type("IfcGeometricRepresentationContext"):
-        if ctx.is_a() == "IfcGeometricRepresentationContext" and ctx.ContextType == "Model" and ctx.TrueNorth is not None:
-            x, y = ctx.TrueNorth.DirectionRatios[:2]
-            north = math.degrees(math.atan2(x, y)) % 360.0
-            src.append("true north from the model context's TrueNorth")
-            break
-    crs = None
-    if m is not None:
-        crs = m[6]
-        rot = math.degrees(math.atan2(m[4], m[3]))  # the project's x axis, counterclockwise from the map's
-        north = None if north is None else (north - rot) % 360.0
-        src.append(f"placed by IfcMapConversion in {crs or 'its map CRS'}")
-    if lat is None and north is None and crs is None:
-        return None
-    return Site(latitude=lat, longitude=lon, elevation_m=elev, true_north_deg=north, crs=crs,
-                source=f"{path.name}: " + "; ".join(src))
 
 
 def default_layer(product, glazing: bool) -> str:
@@ -375,10 +308,10 @@ def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read an IFC file: products as parts by class and style, spaces, site (see the module docstring)."""
     options = options or ReadOptions()
     f, notes = _open(path)
-    m = _map_conversion(f)
+    m = map_conversion(f)
 
     def place(v: np.ndarray) -> np.ndarray:
-        return v if m is None else _apply_map(v, m)
+        return v if m is None else apply_map(v, m)
 
     excluded = set(options.exclude)
     shapes = []
@@ -401,5 +334,5 @@ def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
     space_shapes = ((p, v, fc) for p, v, fc, _, _ in _iterate(f, include=spaces)) if spaces else ()
     unread = [(label(p), f"no geometry from ifcopenshell ({why})") for p, why in missing if any(p.is_a(c) for c in GLAZED)]
     return Mesh(np.concatenate(b.verts), np.concatenate(b.tris), np.concatenate(b.pidx), b.parts, warnings, notes + more,
-                units="m", up_axis="z", site=_site(f, path, m), spaces=read_spaces(f, space_shapes, place),
+                units="m", up_axis="z", site=site_of(f, path, m), spaces=read_spaces(f, space_shapes, place),
                 windows_left_out=b.left_out + unread)
