@@ -30,15 +30,21 @@ DEFAULT = ROOT.parent / "shared" / "data" / "real-models"
 
 
 def authoring_tool(path: Path) -> tuple[str, str]:
-    """(tool, schema) from the STEP header and the first IfcApplication of ``path``."""
-    head = path.read_bytes()[:200_000].decode("latin-1")
+    """(tool, schema): the file's first IfcApplication (name and version), else the STEP header's
+    originating system."""
+    from en17037cli.io.ifc_step import top_level_arguments
+
+    data = path.read_bytes()
+    head = data[:20_000].decode("latin-1")
     schema = (re.search(r"FILE_SCHEMA\s*\(\s*\(\s*'([^']+)'", head) or [None, "?"])[1]
-    app = re.search(r"IFCAPPLICATION\s*\([^,]*,\s*'([^']*)'\s*,\s*'([^']*)'", head, re.I)
+    app = re.search(rb"IFCAPPLICATION\s*\([^,]*,\s*'([^']*)'\s*,\s*'([^']*)'", data, re.I)
     if app:
-        name, version = app[2].strip(), app[1].strip()
+        name, version = app[2].decode("latin-1").strip(), app[1].decode("latin-1").strip()
         return (name if version in name else f"{name} {version}").strip(), schema
-    name = re.search(r"FILE_NAME\s*\((?:'(?:[^']|'')*'\s*,\s*){5}'((?:[^']|'')*)'", head)
-    return (name[1] if name and name[1] else "?"), schema
+    header = re.search(r"FILE_NAME\s*\((.*?)\)\s*;", head, re.S)
+    fields = top_level_arguments(header[1].encode("latin-1")) if header else []
+    system = fields[5].decode("latin-1").strip().strip("'") if len(fields) > 5 else ""
+    return system or "?", schema
 
 
 def site_longitude(path: Path) -> float | None:

@@ -233,6 +233,9 @@ class _Builder:
         glazed_class = any(product.is_a(c) for c in GLAZED)
         asm = self.assembly_of.get(gid)
         host = self.host_of.get(gid, ())
+        key = gid
+        if asm is not None and asm[1] in ("IfcWindow", "IfcDoor"):  # a pane or member of a window assembly
+            key, host = asm[0], host or self.host_of.get(asm[0], ())
         if not host and asm is not None and asm[1] == "IfcCurtainWall":
             host = (asm[0],)  # a curtain wall's plate: the curtain wall holds it
         keys = [int(k) for k in np.unique(mids)]
@@ -270,7 +273,7 @@ class _Builder:
                 mname = getattr(mat, "name", None) if mat is not None else None
                 if mname and not mname.startswith(("IfcSurfaceStyle", "DefaultMaterial")) and not is_default_material(mat, product):
                     attrs["material"] = mname
-            self.parts.append(Part(attrs, layer=default_layer(product, is_glass), window=gid if is_glass else None,
+            self.parts.append(Part(attrs, layer=default_layer(product, is_glass), window=key if is_glass else None,
                                    host=host, assembly=None if asm is None else asm[0]))
             self.tris.append(faces[sel] + self.offset)
             self.pidx.append(np.full(int(sel.sum()), len(self.parts) - 1))
