@@ -254,16 +254,17 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     rooms = []
     for i, space in sorted(picked, key=lambda p: (p[1].floor_z, room_name(p[1]))):  # storey by storey
         name = room_name(space)
-        chosen = by_space.get(i, [])
-        if spec.windows is not None:
-            chosen = [(w, why) for w, why in chosen if any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
+        opening = by_space.get(i, [])
+        chosen = opening if spec.windows is None else \
+            [(w, why) for w, why in opening if any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
         if space.problem:
             named = [k for k in space.windows if k in keys]
             scene.left_out.append(LeftOut(name, f"the space has no floor ({space.problem})",
                                           tuple(w.name for w in scene.windows if w.key in named)))
             continue
-        if not chosen:
-            scene.left_out.append(LeftOut(name, "no window opens into it"))
+        if not chosen:  # the project's own globs leaving out every window: its choice, not a space left out unasked
+            scene.left_out.append(LeftOut(name, "no window opens into it" if not opening else
+                                          f"none of its {len(opening)} window(s) matches rooms[{spec.index}].windows"))
             continue
         room_spec = replace(spec, name=name, floor_z=space.floor_z, floor=space.footprint, ceiling_z=space.top_z,
                             view_points=None, sun_points=None, windows=None)
