@@ -38,7 +38,7 @@ WALL = 0.3
 
 
 def one_room(path: Path, *, glass: str = "glass", railing: bool = False, name_both: bool = False,
-             uncut: bool = False, store: bool = False) -> Path:
+             uncut: bool = False, store: bool = False, store_name: tuple[str, str] = ("S1", "Store")) -> Path:
     """Write the one-room model (see the module docstring); ``glass``: the glass's style ('frame'
     for an opaque one), ``railing``: a 5 cm rail 5 cm inside the south window's east jamb,
     ``name_both``: space boundaries for both windows (else the south one only), ``uncut``: an
@@ -55,7 +55,7 @@ def one_room(path: Path, *, glass: str = "glass", railing: bool = False, name_bo
     walls = [b.wall(f"Wall {k}", st, *p, *q, 0.0, 2.7) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
     room = b.space("R1", "Room", st, [(WALL, WALL), (6.3, WALL), (6.3, 5.3), (WALL, 5.3)], 0.0, 2.7)
     if store:
-        b.space("S1", "Store", st, [(10, 10), (12, 10), (12, 12), (10, 12)], 0.0, 2.7)
+        b.space(*store_name, st, [(10, 10), (12, 10), (12, 12), (10, 12)], 0.0, 2.7)
     b.styles["glass"] = b.styles[glass]
     b.window("W south", st, walls[0], (3.3, 0.0, 1.5), (0, -1, 0), (1, 0, 0), 2.0, 1.4, spaces=[room])
     b.window("W east", st, walls[1], (6.6, 2.8, 1.5), (1, 0, 0), (0, 1, 0), 1.2, 1.2, spaces=[room] if name_both else [])
@@ -159,6 +159,13 @@ def test_no_room_is_never_a_pass(tmp_path):
     r = pipeline.run(load_project(p, []))
     assert r.rooms == [] and r.status == "fail"
     assert any(w.startswith("no room to assess: every space the project picks is left out") for w in r.warnings)
+
+
+def test_spaces_named_alike_are_told_apart_by_globalid(tmp_path):
+    """Two spaces both 'Room (R1)': the rooms get their GlobalIds, not a duplicate-name error."""
+    s = build_scene(load_project(project(tmp_path, one_room(tmp_path / "room.ifc", store=True, store_name=("R1", "Room"))), []))
+    assert len(s.rooms) == 1 and re.fullmatch(r"Room \(R1\) \[[0-9A-Za-z_$]{22}\]", s.rooms[0].name)
+    assert len(s.left_out) == 1 and s.left_out[0].name.startswith("Room (R1) [") and not s.left_out[0].windows
 
 
 def test_the_readme_from_bim_project_runs_as_written(tmp_path):

@@ -85,7 +85,7 @@ def build_scene(project: Project) -> Scene:
                   part=g.part, notes=g.notes, warnings=g.warnings, file_hashes=g.file_hashes, sites=g.sites, spaces=g.spaces,
                   windows_left_out=g.windows_left_out,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
-    check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where)
+    scene.warnings.extend(check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where))
     for spec in project.rooms:
         if spec.ifc_spaces is not None:
             scene.rooms.extend(rooms_from_spaces(scene, spec, f"{where}: rooms[{spec.index}]"))

@@ -251,9 +251,12 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
         for i, normal, why in m.spaces:
             by_space.setdefault(i, []).append((w.facing(normal), why))
     keys = {w.key for w in scene.windows if w.key}
+    names = [room_name(s) for _, s in scene.spaces]
     rooms = []
     for i, space in sorted(picked, key=lambda p: (p[1].floor_z, room_name(p[1]))):  # storey by storey
         name = room_name(space)
+        if names.count(name) > 1:  # two spaces named alike (exports do that): the GlobalId tells them apart
+            name = f"{name} [{space.id}]"
         opening = by_space.get(i, [])
         chosen = opening if spec.windows is None else \
             [(w, why) for w, why in opening if any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
@@ -268,7 +271,12 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
             continue
         room_spec = replace(spec, name=name, floor_z=space.floor_z, floor=space.footprint, ceiling_z=space.top_z,
                             view_points=None, sun_points=None, windows=None)
-        room = make_room(scene, room_spec, f"{where} '{name}'", chosen=chosen)
+        try:
+            room = make_room(scene, room_spec, f"{where} '{name}'", chosen=chosen)
+        except InputError as exc:  # a space the file gives no usable floor: listed, never the whole run stopped
+            why = str(exc).split(": ", 2)[-1]
+            scene.left_out.append(LeftOut(name, f"its footprint is not usable ({why})", tuple(w.name for w, _ in chosen)))
+            continue
         room.zones, room.storey = space.zones, space.storey
         room.floor_source, room.ceiling_source = "the IfcSpace's footprint", "the IfcSpace's top"
         rooms.append(room)

@@ -22,8 +22,11 @@ __all__ = ["connected_components", "shared_edges", "outer_surface", "coplanar_cl
 
 #: An opaque face this close to a window's plane lies in it [m] ...
 UNCUT_DISTANCE_M = 1e-3
-#: ... and covering more than this share of the window's area makes it a modelling error.
+#: ... and covering more than this share of the window's area makes it a modelling error ...
 UNCUT_SHARE = 0.01
+#: ... where the model names its elements (a received IFC), more than this share; less is a warning
+#: (another element's frame or casing flush with part of the glass hides that part, as it should).
+UNCUT_ERROR_SHARE = 0.5
 
 
 #: Glass layers of one pane closer than this are one thin solid (a pane modelled with thickness,
@@ -209,16 +212,19 @@ def file_label(part: Part) -> str:
     return f"{stem}: {name}" if stem else name
 
 
-def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window], parts: list[Part], part, where: str) -> None:
+def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window], parts: list[Part], part,
+                              where: str) -> list[str]:
     """Raise InputError where glazing lies over an opaque face of another element, with no opening
-    cut for it.
+    cut for it; warnings where such a face hides only a part of it.
 
     An opaque face within :data:`UNCUT_DISTANCE_M` of a window's glazing, whose overlap with the
     window covers more than :data:`UNCUT_SHARE` of the window's area, hides the glazing from every
     ray (a silent zero view). Walls whose opening is cut around a glazing in the same plane only
     touch its outline and pass; the window's own frame (:func:`own_parts`) touching or surrounding
-    its glass is its frame and never counts. Vectorised over faces; one shapely overlap per layer
-    of glazing of a window.
+    its glass is its frame and never counts. Where the model names its elements (IFC: a file the
+    user received) the error needs more than :data:`UNCUT_ERROR_SHARE` (a wall left uncut covers
+    it all); a smaller overlap is a warning naming the other element. Vectorised over faces; one
+    shapely overlap per layer of glazing of a window.
 
     Parameters
     ----------
@@ -227,8 +233,9 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window],
     import shapely
 
     opaque = np.flatnonzero(layer != WINDOW)
+    warnings: list[str] = []
     if len(opaque) == 0:
-        return
+        return warnings
     n_parts = len(parts)
     for w in windows:  # one pass per window
         mine = own_parts(parts, w)
@@ -256,7 +263,12 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window],
             share = f"{100 * per_part[worst] / w.area_m2:.0f}%"
             own = parts[int(part[w.face_ids[0]])]
             other = parts[worst]
-            if w.key is not None and "id" in other.attrs:  # a file the user received: what a project file can do
+            named = w.key is not None and "id" in other.attrs
+            if named and per_part[worst] <= UNCUT_ERROR_SHARE * w.area_m2:
+                warnings.append(f"window '{w.name}' ({describe_part(own)}): {describe_part(other)} has an opaque face within "
+                                f"{UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing over {share} of it, which it hides")
+                continue
+            if named:  # a file the user received: what a project file can do
                 raise InputError(
                     f"{where}: window '{w.name}' ({describe_part(own)}) lies on {describe_part(other)}: an opaque face of "
                     f"that element within {UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covers {share} of it, so no ray "
@@ -267,3 +279,4 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window],
                 f"{where}: window '{w.name}' ({file_label(own)}) lies on '{file_label(other)}', an opaque face within "
                 f"{UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covering {share} of it: no ray could pass; cut the "
                 "opening in that wall, or move the glazing off the wall plane")
+    return warnings
