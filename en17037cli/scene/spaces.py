@@ -67,6 +67,13 @@ def room_name(space: Space) -> str:
     return space.long_name or space.name or space.id
 
 
+def space_names(scene: Scene) -> list[str]:
+    """The room name of each space of ``scene`` (:func:`room_name`), made unique: spaces named alike
+    (exports do that) get their GlobalIds, ``'Room (R1) [2O2Fr$t4X7Zf8NOew3FLQD]'``."""
+    names = [room_name(s) for _, s in scene.spaces]
+    return [f"{n} [{s.id}]" if names.count(n) > 1 else n for n, (_, s) in zip(names, scene.spaces)]
+
+
 def extruded_body(footprint: np.ndarray, holes, z0: float, z1: float) -> np.ndarray:
     """(k, 3, 3) [m]: the closed prism of a floor outline (with holes) from ``z0`` to ``z1``."""
     import shapely
@@ -161,10 +168,14 @@ def match_windows(scene: Scene, margin_m: float) -> list[WindowSpaces]:
     for i, s in enumerate(spaces):
         for key in s.windows:
             named.setdefault(key, set()).add(i)
+    has = np.array([b is not None for b in boxes], bool)
+    blo = np.array([b[0] if b is not None else np.full(3, np.inf) for b in boxes]).reshape(-1, 3)
+    bhi = np.array([b[1] if b is not None else np.full(3, -np.inf) for b in boxes]).reshape(-1, 3)
+    wlo, whi = scene.window_boxes()
     out = []
-    for w in scene.windows:  # one small ray test per window and side
-        lo, hi = w.triangles.reshape(-1, 3).min(axis=0) - margin_m, w.triangles.reshape(-1, 3).max(axis=0) + margin_m
-        cand = [i for i, b in enumerate(boxes) if b is not None and np.all(b[0] <= hi) and np.all(b[1] >= lo)]
+    for k, w in enumerate(scene.windows):  # one small ray test per window and side
+        lo, hi = wlo[k] - margin_m, whi[k] + margin_m
+        cand = [int(i) for i in np.flatnonzero(has & np.all(blo <= hi, axis=1) & np.all(bhi >= lo, axis=1))]
         out.append(_match_one(scene, w, cand, [bodies[i] for i in cand], named.get(w.key, set()) if w.key else set(),
                               margin_m, spaces))
     return out
@@ -251,12 +262,10 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
         for i, normal, why in m.spaces:
             by_space.setdefault(i, []).append((w.facing(normal), why))
     keys = {w.key for w in scene.windows if w.key}
-    names = [room_name(s) for _, s in scene.spaces]
+    names = space_names(scene)
     rooms = []
-    for i, space in sorted(picked, key=lambda p: (p[1].floor_z, room_name(p[1]))):  # storey by storey
-        name = room_name(space)
-        if names.count(name) > 1:  # two spaces named alike (exports do that): the GlobalId tells them apart
-            name = f"{name} [{space.id}]"
+    for i, space in sorted(picked, key=lambda p: (p[1].floor_z, names[p[0]])):  # storey by storey
+        name = names[i]
         opening = by_space.get(i, [])
         chosen = opening if spec.windows is None else \
             [(w, why) for w, why in opening if any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
@@ -287,7 +296,7 @@ def windows_in_no_room(scene: Scene) -> list[tuple[str, str]]:
     """(window name, why) of each window of the model that is in no room of the project: it opens
     into no space (the matching's reason), or into spaces the project does not make rooms."""
     in_room = {w.name for r in scene.rooms for w in r.windows}
-    spaces = [s for _, s in scene.spaces]
+    display = space_names(scene)
     left = {lo.name: lo.reason for lo in scene.left_out}
     out = []
     for k, w in enumerate(scene.windows):
@@ -299,7 +308,7 @@ def windows_in_no_room(scene: Scene) -> list[tuple[str, str]]:
         elif not m.spaces:
             out.append((w.name, m.why))
         else:
-            names = [room_name(spaces[i]) for i, _, _ in m.spaces]
+            names = [display[i] for i, _, _ in m.spaces]
             why = "; ".join(f"'{n}' is left out ({left[n]})" if n in left else f"no rooms[] entry picks '{n}'" for n in names)
             out.append((w.name, f"it opens into {', '.join(repr(n) for n in names)}: {why}"))
     return out
