@@ -16,6 +16,10 @@ Speed is measured here, never in a timed test. Sections:
    the check with the project's own settings (target: under 5 x).
 7. **City context**: reading a generated 10,000-building CityJSON tile (3D BAG-like, LoD 2.2;
    ``scripts/make_cityjson_tile.py``) in a child process: wall time and peak memory.
+7b. **CityGML**: reading a generated 12,000-building CityGML 2.0 tile of about 80 MB
+   (``scripts/make_citygml_tile.py``) in a child process, with a context radius of 300 m and of
+   1000 m (the default) around its centre and without one: wall time and peak memory (the reader
+   streams one ``cityObjectMember`` at a time and keeps only what lies within the radius).
 8. **Whole building**: a generated IFC apartment block (6 storeys x 12 flats x 3 rooms, see
    :func:`en17037cli.samples.ifc.block`), wall time, stage times and peak memory against the
    number of rooms checked (1, 10, 100, 216), view and sunlight with the defaults.
@@ -288,6 +292,35 @@ def cityjson_tile(n: int = 10_000) -> dict:
     return {"buildings": n, **best}
 
 
+_CITYGML_READ = (
+    "import json, resource, sys, time\n"
+    "from pathlib import Path\n"
+    "from en17037cli.io import ReadOptions, read_model\n"
+    "near = None if sys.argv[2] == 'none' else ((389500.0, 5819500.0), float(sys.argv[2]))\n"
+    "t = time.perf_counter(); m = read_model(Path(sys.argv[1]), ReadOptions(near=near)); wall = time.perf_counter() - t\n"
+    "print(json.dumps({'wall_s': wall, 'triangles': len(m.triangles), 'parts': len(m.parts),"
+    " 'peak_mb': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))\n"
+)
+
+
+def citygml_tile(n: int = 12_000) -> list:
+    """Read a generated ``n``-building CityGML 2.0 tile (``scripts/make_citygml_tile.py``, about 80 MB) in a
+    child process, with the context radius around the tile's centre and without: wall [s], peak [MB]."""
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / f"tile-{n}.gml"
+        subprocess.run([sys.executable, str(ROOT / "scripts" / "make_citygml_tile.py"), "-n", str(n), "-o", str(path)],
+                       capture_output=True, text=True, check=True)
+        size_mb = path.stat().st_size / 1e6
+        for radius in ("300", "1000", "none"):
+            runs = [json.loads(subprocess.run([sys.executable, "-c", _CITYGML_READ, str(path), radius], capture_output=True,
+                                              text=True, check=True).stdout) for _ in range(2)]
+            best = min(runs, key=lambda r: r["wall_s"])
+            rows.append({"file_mb": round(size_mb, 1), "buildings": n,
+                         "context_radius_m": radius if radius != "none" else "(none)", **best})
+    return rows
+
+
 def sensitivity_cost() -> dict:
     """``study sensitivity`` on the seed office in a child process: total time and its ratio to the base run."""
     with tempfile.TemporaryDirectory() as tmp:
@@ -386,6 +419,36 @@ def dask_scaling(quick: bool) -> list:
     return rows
 
 
+#: A real IFC export (../shared/data/real-models) checked for daylight provision (method 1).
+REAL_IFC = ROOT.parent / "shared" / "data" / "real-models" / "Duplex_A_20110907.ifc"
+
+
+def daylight_cost() -> list:
+    """Daylight provision (5.1) with its verdicts and the daylight stage's time: the seed office and
+    a real IFC export (every IfcSpace, method 1 at the defaults)."""
+    rows = []
+    for name, path in (("seed-office", SAMPLES["seed-office"]), ("Duplex (real IFC)", None)):
+        with tempfile.TemporaryDirectory() as tmp:
+            if path is None:
+                if not REAL_IFC.is_file():
+                    continue
+                path = Path(tmp) / "project.yaml"
+                path.write_text(f"version: 1\nname: Duplex\nmodel: {{files: [{{path: '{REAL_IFC}'}}]}}\n"
+                                "location: {timezone: America/Chicago}\nrooms: [{ifc_spaces: '*'}]\n"
+                                "daylight: {median_diffuse_lx: 13300}\nrequirements: {daylight: minimum, view: none, sunlight: none}\n")
+            out = Path(tmp) / "out"
+            cmd = [sys.executable, "-m", "en17037cli", "check", str(path), "--quiet", "--no-plots", "--out", str(out), "--only", "daylight"]
+            t = time.perf_counter()
+            subprocess.run(cmd, capture_output=True, text=True, check=False)
+            wall = time.perf_counter() - t
+            rep = json.loads((out / "report.json").read_text())
+            secs = [r["daylight"] for r in rep["rooms"] if r.get("daylight") and r["daylight"]["status"] in ("pass", "fail")]
+            rows.append({"project": name, "rooms": len(secs), "points": sum(len(s["points"]) for s in secs),
+                         "pass": sum(s["status"] == "pass" for s in secs), "levels": " ".join(s["level"] for s in secs),
+                         "daylight_s": rep["timings_s"].get("daylight"), "wall_s": round(wall, 3)})
+    return rows
+
+
 def _target(name: str, measured: float, limit: float, unit: str, raw_s: float | None = None) -> dict:
     return {"target": name, "measured": measured, "limit": limit, "unit": unit, "met": "met" if measured < limit else "NOT met",
             "raw_embree_s": raw_s, "ratio_to_raw": None if not raw_s else measured / raw_s}
@@ -451,7 +514,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "building", "dask", "targets")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "citygml", "building", "dask", "daylight", "targets")
 
 
 def main(argv=None) -> int:
@@ -482,7 +545,7 @@ def main(argv=None) -> int:
                                "peak_mb": r["peak_mb"], **r["stages_s"], "rays": r["rays"]})
         result["check"] = checks
         _table("en17037 check (child process; wall includes start-up) [s, MB]", checks,
-               ["project", "wall_s", "peak_mb", "load", "build", "view", "sunlight", "report", "rays"])
+               ["project", "wall_s", "peak_mb", "load", "build", "view", "sunlight", "daylight", "report", "rays"])
     if "scaling" in args.only:
         result["scaling"] = scaling(args.quick)
         sc = result["scaling"]
@@ -506,6 +569,10 @@ def main(argv=None) -> int:
         result["cityjson"] = cityjson_tile()
         _table("City context: a 10,000-building CityJSON tile read (best of 3, child process) [s, MB]", [result["cityjson"]],
                ["buildings", "triangles", "parts", "wall_s", "peak_mb"])
+    if "citygml" in args.only:
+        result["citygml"] = citygml_tile()
+        _table("City context: a generated 12,000-building CityGML 2.0 tile read while streaming (best of 2, child process) "
+               "[MB, s]", result["citygml"], ["file_mb", "buildings", "context_radius_m", "triangles", "parts", "wall_s", "peak_mb"])
     if "building" in args.only:
         result["building"] = whole_building(args.quick)
         _table("Whole building: the generated IFC apartment block, defaults [s, MB]", result["building"],
@@ -514,6 +581,10 @@ def main(argv=None) -> int:
         result["dask"] = dask_scaling(args.quick)
         _table("Dask: batch --scheduler local on the generated IFC block, defaults [rooms/s]", result["dask"],
                ["workers", "threads_per_worker", "rooms", "startup_s", "wall_s", "rooms_per_s", "speed_up"])
+    if "daylight" in args.only:
+        result["daylight"] = daylight_cost()
+        _table("Daylight provision (5.1), method 1 at the defaults (-ab 5 -ad 512, 4 replicates) [s]", result["daylight"],
+               ["project", "rooms", "points", "pass", "levels", "daylight_s", "wall_s"])
     if "targets" in args.only:
         if "throughput" not in result:
             result["throughput"] = throughput()

@@ -107,7 +107,7 @@ def junit_option(fn):
 @project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Report folder [default: en17037-report/<project file stem>/ beside the project file].")
-@click.option("--only", type=click.Choice(["view", "sunlight"]), default=None,
+@click.option("--only", type=click.Choice(["view", "sunlight", "daylight"]), default=None,
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option
@@ -248,6 +248,8 @@ def validate(project_file: Path, overrides, max_points, objects):
     project, scene, pf = guard(run)
     click.echo(f"{project_file}: valid")
     click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in scene.layer_counts().items()))
+    for display, line in scene.read:  # what each reader read and left out
+        click.echo(f"read {display}: {line}")
     if pf.points:
         click.echo(f"estimated cost: {pf.points:,} viewpoints, {pf.cells:,.0f} sampling cells (budget {max_points or MAX_POINTS:,} viewpoints)")
     bounding = set()
@@ -310,7 +312,7 @@ def _target_kinds():
               help="Run only this ladder, e.g. view.angular_resolution_deg (repeatable) [default: all].")
 @click.option("--target", "targets", multiple=True,
               type=KindValue(_target_kinds),
-              help="Error target: angle_deg, solid_angle_sr, distance_m, hours_s, share_pp (repeatable).")
+              help="Error target: angle_deg, solid_angle_sr, distance_m, hours_s, share_pp, daylight_factor_pct, share_of_hours (repeatable).")
 @click.option("--points", "max_points", type=click.IntRange(1), default=None,
               help="Use at most this many viewpoints per room and eye height (spread evenly).")
 @set_option
@@ -388,7 +390,7 @@ def sensitivity(project_file: Path, out_dir: Path, overrides):
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Run on a Dask cluster: its scheduler's address (tcp://host:8786), or 'local' for a LocalCluster "
                    "(needs the dask extra).")
-@click.option("--only", type=click.Choice(["view", "sunlight"]), default=None,
+@click.option("--only", type=click.Choice(["view", "sunlight", "daylight"]), default=None,
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from en17037cli.criteria import CRITERIA, Context
+from en17037cli.criteria.view.viewpoints import grid_lines, grid_tolerance
 from en17037cli.dwellings import group_dwellings
 from en17037cli.errors import InputError
 from en17037cli.geometry import points_in_triangles, window_axes
@@ -56,7 +57,8 @@ def estimate_room_points(room, settings) -> int:
         return 0
     rect = np.asarray(shapely.minimum_rotated_rectangle(room.floor).exterior.coords)[:3]
     sides = np.linalg.norm(np.diff(rect, axis=0), axis=1)
-    per_height = np.prod(np.floor(sides / settings.grid_spacing_m + 1e-9) + 1)
+    s = settings.grid_spacing_m
+    per_height = np.prod(grid_lines(sides, s, grid_tolerance(sides.max(), s)).astype(float))
     return int(min(per_height * len(settings.eye_heights_m), 1e15))
 
 

@@ -39,6 +39,8 @@ class Thresholds:
     horizontal_sight_angle_deg: LevelThresholds
     outside_distance_m: LevelThresholds
     sunlight_hours: LevelThresholds
+    daylight_target_lx: LevelThresholds
+    daylight_minimum_target_lx: LevelThresholds
 
     @classmethod
     def from_dict(cls, d: dict) -> Thresholds:
@@ -54,7 +56,24 @@ THRESHOLDS: dict[str, dict[str, float]] = {
     "outside_distance_m": {"minimum": 6.0, "medium": 20.0, "high": 50.0},
     # clause 5.3, Table A.6: duration of exposure to sunlight on the assessed day [h]
     "sunlight_hours": {"minimum": 1.5, "medium": 3.0, "high": 4.0},
+    # clause 5.1, Table A.1: target illuminance E_T over DAYLIGHT_SHARES["target"] of the reference plane [lx]
+    "daylight_target_lx": {"minimum": 300.0, "medium": 500.0, "high": 750.0},
+    # clause 5.1, Table A.1: minimum target illuminance E_TM over DAYLIGHT_SHARES["minimum_target"] of it [lx]
+    "daylight_minimum_target_lx": {"minimum": 100.0, "medium": 300.0, "high": 500.0},
 }
+
+#: Clause 5.1, Table A.1: share of the reference plane that must reach the target (``target``)
+#: and the minimum target (``minimum_target``) illuminance, for vertical and inclined openings.
+DAYLIGHT_SHARES: dict[str, float] = {"target": 0.50, "minimum_target": 0.95}
+#: Clause 5.1: a point reaches an illuminance when it is exceeded for at least this share of the daylight hours.
+DAYLIGHT_HOURS_FRACTION = 0.5
+#: Clause 5.1 and Annex A.2: the daylight hours are the half of the year's hours (8760 / 2) with the
+#: highest diffuse horizontal illuminance; E_v,d,med is the median diffuse horizontal illuminance over them.
+DAYLIGHT_HOURS = 4380
+#: Annex A: height of the reference plane above the floor [m] ...
+REFERENCE_PLANE_M = 0.85
+#: ... which leaves out a band this wide along the walls [m].
+REFERENCE_PLANE_WALL_BAND_M = 0.5
 
 #: Clause 5.2, Table A.5: the view layers that must be visible for each level.
 #: ``minimum``: landscape; ``medium``: landscape and (sky or ground); ``high``: all three.
@@ -302,6 +321,37 @@ def sunlight_limit(hours: float, reached: int, required: str, thresholds: LevelT
     Table A.6)."""
     t = target_level(reached, required)
     return Limit(LEVELS[t], "sunlight_hours", float(hours), thresholds.values()[t - 1] if t > 0 else 0.0)
+
+
+def daylight_level(target_share: dict[str, float], minimum_share: dict[str, float]) -> int:
+    """Level index (0..3) of daylight provision (clause 5.1, Table A.1): the highest level whose
+    target illuminance is reached on at least :data:`DAYLIGHT_SHARES` ``target`` of the reference
+    plane and whose minimum target illuminance on at least ``minimum_target`` of it.
+
+    Parameters
+    ----------
+    target_share, minimum_share : level name -> share of the reference plane's points in [0, 1]
+        that reach the level's target (minimum target) illuminance for at least half of the
+        daylight hours (method 2), or whose daylight factor reaches D_T (D_TM) (method 1)
+    """
+    level = 0
+    for i in range(1, len(LEVELS)):
+        name = LEVELS[i]
+        if (target_share[name] >= DAYLIGHT_SHARES["target"] - 1e-12
+                and minimum_share[name] >= DAYLIGHT_SHARES["minimum_target"] - 1e-12):
+            level = i
+        else:
+            break
+    return level
+
+
+def daylight_limit(target_share: dict[str, float], minimum_share: dict[str, float], reached: int, required: str) -> Limit:
+    """The requirement of Table A.1 with the smallest margin at the target level: ``daylight_target``
+    (share of the plane reaching E_T, 50 % needed) or ``daylight_minimum_target`` (E_TM, 95 %)."""
+    t = LEVELS[target_level(reached, required)]
+    a = Limit(t, "daylight_target", float(target_share[t]), DAYLIGHT_SHARES["target"])
+    b = Limit(t, "daylight_minimum_target", float(minimum_share[t]), DAYLIGHT_SHARES["minimum_target"])
+    return a if a.margin <= b.margin else b
 
 
 # --- continuous scores (beyond the standard) -------------------------------------------------

@@ -49,10 +49,12 @@ def summary(report: dict, out: Path):
     for col in ("room", "check", "reached", "required", "result"):
         table.add_column(col)
     for room in report["rooms"]:
-        for name, key in (("view out", "view"), ("sunlight", "sunlight")):
-            r = room[key]
+        for name, key in (("view out", "view"), ("sunlight", "sunlight"), ("daylight", "daylight")):
+            r = room.get(key)
             if r:
                 extra = f" ({r['hours']} h on {r['assessed_date']})" if key == "sunlight" and r["status"] in ("pass", "fail") else ""
+                if key == "daylight" and r["status"] in ("pass", "fail"):
+                    extra = f" ({daylight_words(r)})"
                 table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
     console = stderr_console()
     console.print(table)
@@ -63,7 +65,14 @@ def summary(report: dict, out: Path):
     for w in report["warnings"]:
         console.print(f"warning: {w}", style="yellow", highlight=False)
     console.print(f"status: {report['status'].upper()}; reports in {out}/ (report.html, report.md, report.json, view_points.csv, "
-                  "sunlight_days.csv)")
+                  "sunlight_days.csv, daylight_points.csv)")
+
+
+def daylight_words(section: dict) -> str:
+    """``D median 2.1 %, method 1`` or ``climate-based, hours first``: the daylight row's figure."""
+    if section["method"] == "daylight_factor":
+        return f"D median {section.get('median_daylight_factor_pct', 0):g} %, method 1"
+    return f"climate-based, {section['aggregation'].replace('_', ' ')}"
 
 
 def list_objects(scene):

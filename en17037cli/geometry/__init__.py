@@ -1,6 +1,6 @@
 """Geometry on numpy arrays: triangles and polygons (:mod:`.triangles`), planar containment and
 clipping (:mod:`.planar`), exact solid angles (:mod:`.solid_angle`)."""
-from en17037cli.geometry.planar import area2, clip_halfplane, in_triangle, points_in_triangles
+from en17037cli.geometry.planar import area2, clip_halfplane, in_triangle, points_in_triangles, turn
 from en17037cli.geometry.solid_angle import (
                                              clipped_solid_angle,
                                              offset_rectangle_solid_angle,
@@ -11,4 +11,4 @@ from en17037cli.geometry.triangles import check_shape, triangle_normals, triangu
 
 __all__ = ["area2", "clip_halfplane", "in_triangle", "points_in_triangles", "clipped_solid_angle",
            "offset_rectangle_solid_angle", "rectangle_solid_angle", "triangle_solid_angle", "check_shape",
-           "triangle_normals", "triangulate_polygon", "triangulate_polygons", "window_axes"]
+           "triangle_normals", "triangulate_polygon", "triangulate_polygons", "turn", "window_axes"]

@@ -4,6 +4,30 @@ from __future__ import annotations
 import numpy as np
 
 
+def turn(t1, t2) -> np.ndarray:
+    """Signed shortest turn from azimuth ``t1`` to ``t2`` [rad], in [-pi, pi].
+
+    Both in [-pi, pi] (``arctan2``'s range). The difference t2 - t1 is exact in float64 when the
+    two are within a factor of two of each other (Sterbenz's lemma), so the sign of a small turn is
+    the sign of the azimuths' own order: an interval seen edge-on, whose two ends are one unit of
+    round-off apart, is a tiny interval, never the whole circle less a tiny one. (The form
+    ``(t2 - t1 + pi) % 2 pi - pi`` rounds t2 - t1 + pi, which can turn -1 ulp into 0, and the
+    interval from t1 to t2 into 2 pi minus an ulp.) Only a turn across the branch cut at +-pi is
+    shifted by 2 pi, where its size is far from zero.
+
+    Parameters
+    ----------
+    t1, t2 : float or (n,) float [rad], within [-pi, pi]
+
+    Returns
+    -------
+    (n,) float [rad]; +-pi where the two are opposite (the direction of turn is then undefined)
+    """
+    d = np.asarray(t2, dtype=float) - np.asarray(t1, dtype=float)
+    two_pi = 2.0 * np.pi
+    return np.where(d > np.pi, d - two_pi, np.where(d < -np.pi, d + two_pi, d))
+
+
 def area2(t: np.ndarray) -> float:
     """Twice the unsigned area of one 2D triangle (3, 2)."""
     return abs((t[1, 0] - t[0, 0]) * (t[2, 1] - t[0, 1]) - (t[1, 1] - t[0, 1]) * (t[2, 0] - t[0, 0]))

@@ -21,13 +21,18 @@ class ReadOptions:
 
     lod : CityJSON level of detail, "highest" or e.g. "2.2"
     exclude : object ids (CityJSON ids, IFC GlobalIds) to leave out
-    near : ((x, y), radius_m) in the file's own coordinates: objects entirely farther away may be
-        left out before triangulation, or None
+    near : ((x, y), radius_m) in the file's own coordinates (the target CRS's, where one is given):
+        objects entirely farther away may be left out before triangulation, or None
+    crs : the file's CRS as the project gives it (its ``crs`` key, ``EPSG:nnnn``), over what the file says
+    target_crs : the CRS of the project's other files: a city model in another CRS (CityGML) is
+        projected to it, or None
     """
 
     lod: str = "highest"
     exclude: tuple[str, ...] = ()
     near: tuple[tuple[float, float], float] | None = None
+    crs: str | None = None
+    target_crs: str | None = None
 
 
 Reader = Callable[[Path, ReadOptions], Mesh]
@@ -73,4 +78,4 @@ def read_model(path: Path, options: ReadOptions | None = None) -> Mesh:
 
 def _load_builtin_readers() -> None:
     """Import the reader modules (they register themselves); heavy libraries load only when used."""
-    from en17037cli.io import cityjson, ifc, obj, ply, stl, trimesh_formats  # noqa: F401
+    from en17037cli.io import citygml, cityjson, dxf, gbxml, ifc, obj, ply, stl, trimesh_formats  # noqa: F401

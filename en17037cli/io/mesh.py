@@ -17,16 +17,19 @@ import numpy as np
 #: (``{class: "IfcWindow", layer: window}``); ``match`` globs test every value.
 PART_KEYS = {
     "object": "OBJ object (o), glTF node",
-    "group": "OBJ group (g), glTF geometry",
+    "group": "OBJ group (g), glTF geometry, DXF layer",
     "material": "OBJ material (usemtl), glTF/IFC material or surface style name",
     "file": "the model file's stem (set by the scene, not the reader)",
     "name": "IFC product Name",
-    "class": "IFC entity (IfcWindow) or CityJSON CityObject type (Building)",
-    "id": "IFC GlobalId or CityJSON object id",
+    "class": "IFC entity (IfcWindow), CityJSON / CityGML city object type (Building), DXF entity type (3DFACE), "
+             "gbXML surface or opening type (ExteriorWall, FixedWindow)",
+    "id": "IFC GlobalId, CityJSON object id, CityGML gml:id, gbXML surface or opening id",
     "type": "IFC type object name (IfcWindowType Name), or ObjectType",
     "storey": "IFC building storey Name",
     "surface": "semantic surface: CityJSON WallSurface/RoofSurface/GroundSurface...; IFC 'glazing' or 'frame'",
     "parent": "CityJSON parent object type (a BuildingPart's Building); IFC aggregate's class",
+    "colour": "DXF ACI colour number",
+    "space": "gbXML: the Name of the space a surface bounds",
 }
 
 #: Layers a reader may propose for a part (the project's rules decide; see scene/layers.py).
@@ -76,18 +79,21 @@ class Part:
 
 @dataclass(frozen=True)
 class Space:
-    """A room as the model file defines it (an IfcSpace), in the mesh's frame.
+    """A room as the model file defines it (an IfcSpace, a gbXML Space), in the mesh's frame.
 
     footprint : (k, 2) float [m], outer ring of the space's floor outline (x, y), counterclockwise
     floor_z, top_z : float [m], bottom and top of the space
     windows : GlobalIds (``Part.window`` keys) of the windows that bound it by the file's own
-        space boundaries (IfcRelSpaceBoundary); empty when the file has none
-    zones : names of the zones (IfcZone, IfcSpatialZone) that group it
+        space boundaries (IfcRelSpaceBoundary; gbXML: the exterior glazings on its side); empty
+        when the file has none
+    zones : names of the zones (IfcZone, IfcSpatialZone, gbXML Zone) that group it
     holes : inner rings of the floor outline, (k, 2) float [m] each
     body : (k, 3, 3) float [m], the closed surface of the space's volume (triangles), where the
         format gives it: windows are matched to spaces against it (a sloped ceiling, a roof
         light's well); None: the footprint extruded from ``floor_z`` to ``top_z`` stands for it
     problem : why the space has no usable floor ("" when it has one): reported, never dropped
+    kind : what the file calls it ("IfcSpace", "gbXML Space"): a project's ``ifc_spaces`` /
+        ``gbxml_spaces`` glob picks spaces of its kind
     """
 
     id: str
@@ -102,6 +108,7 @@ class Space:
     holes: tuple[np.ndarray, ...] = ()
     body: np.ndarray | None = None
     problem: str = ""
+    kind: str = "IfcSpace"
 
 
 @dataclass(frozen=True)
@@ -114,6 +121,8 @@ class Site:
         (from the model context's TrueNorth)
     crs : str, e.g. "EPSG:7415", the coordinate reference system of the vertices
     source : str, one line saying where the values came from (for the report)
+    reprojected_from : str, the CRS the file's coordinates were in where the reader projected them
+        to ``crs`` (CityGML to the project's CRS), else None
     """
 
     latitude: float | None = None
@@ -122,6 +131,7 @@ class Site:
     true_north_deg: float | None = None
     crs: str | None = None
     source: str = ""
+    reprojected_from: str | None = None
 
 
 @dataclass
@@ -137,9 +147,13 @@ class Mesh:
     notes : neutral facts worth a line in the report (LoD fallbacks, objects left out by distance)
     units, up_axis : "m" / "z" when the format fixes them, None when the project decides
     site : what the file says about its location, north and CRS, or None
-    spaces : rooms the file defines (IfcSpace), in the vertices' frame
+    spaces : rooms the file defines (IfcSpace, gbXML Space), in the vertices' frame
     windows_left_out : (label, why) of the windows the file defines that give no glazing (no
         geometry, no transparent part): ``validate`` lists them
+    summary : one line of what the reader read and left out, with counts (``validate`` prints it),
+        or "" (the scene then counts triangles and parts)
+    openings_drawn : the format draws windows on top of their walls, in their plane (DXF): the
+        scene cuts each window out of the coplanar opaque faces under it once layers are known
     """
 
     vertices: np.ndarray
@@ -153,6 +167,8 @@ class Mesh:
     site: Site | None = None
     spaces: list[Space] = field(default_factory=list)
     windows_left_out: list[tuple[str, str]] = field(default_factory=list)
+    summary: str = ""
+    openings_drawn: bool = False
 
     def __post_init__(self):
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)

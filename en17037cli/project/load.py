@@ -25,6 +25,7 @@ from en17037cli.project.settings import (
     Project,
     Requirements,
     RoomSpec,
+    daylight_settings,
     dwellings_spec,
     model_settings,
     sun_settings,
@@ -150,6 +151,8 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
     config = fill_defaults(copy.deepcopy(document), schema, schema)
     for name, values in THRESHOLDS.items():
         config.setdefault("thresholds", {}).setdefault(name, dict(values))
+    if "daylight" in config:  # clause 5.1 is asked at the lowest level unless the project says otherwise
+        config["requirements"].setdefault("daylight", "minimum")
     _check_consistency(path, config)
     return replace(_settings(path, config), practice=config["practice"], practice_set=practice_set)
 
@@ -190,6 +193,7 @@ def _settings(path: Path, config: dict) -> Project:
         req = Requirements(**{**config["requirements"], **room.get("requirements", {})})
         rooms.append(RoomSpec(
             name=room.get("name", ""), index=i, floor_z=float(room.get("floor_z", 0.0)), ifc_spaces=room.get("ifc_spaces"),
+            gbxml_spaces=room.get("gbxml_spaces"),
             floor=None if "floor" not in room else np.asarray(room["floor"], dtype=float),
             windows=None if "windows" not in room else tuple(room["windows"]),
             ceiling_z=None if "ceiling_z" not in room else float(room["ceiling_z"]),
@@ -204,6 +208,7 @@ def _settings(path: Path, config: dict) -> Project:
                                                    loc.get("elevation_m", 0.0)),
         view=view_settings(config["view"]) if "view" in config else None,
         sunlight=sun_settings(config["sunlight"]) if "sunlight" in config else None,
+        daylight=daylight_settings(config["daylight"], directory) if "daylight" in config else None,
         requirements=requirements, thresholds=Thresholds.from_dict(config["thresholds"]), config=config,
         dwellings=dwellings_spec(config.get("dwellings")))
 
@@ -211,10 +216,12 @@ def _settings(path: Path, config: dict) -> Project:
 def _check_consistency(path: Path, config: dict) -> None:
     """Rules a JSON Schema cannot express; each raises a one-line :class:`InputError`."""
     for i, r in enumerate(config["rooms"]):
-        if "ifc_spaces" in r:
+        for key in ("ifc_spaces", "gbxml_spaces"):
+            if key not in r:
+                continue
             clash = [k for k in ("name", "floor_z", "floor", "view_points", "sun_points") if k in r]
             if clash:
-                raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with ifc_spaces (one entry stands for every matched "
+                raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with {key} (one entry stands for every matched "
                                  "space, which gives its name and floor); write the room out instead")
     names = [r["name"] for r in config["rooms"] if "name" in r]
     dupes = sorted({n for n in names if names.count(n) > 1})
@@ -224,7 +231,7 @@ def _check_consistency(path: Path, config: dict) -> None:
         p = (path.parent / f["path"])
         if not p.is_file():
             raise InputError(f"{path}: model.files[{i}].path: file not found: {p}")
-    for key in ("horizontal_sight_angle_deg", "outside_distance_m", "sunlight_hours"):
+    for key in THRESHOLDS:
         t = config["thresholds"][key]
         if not t["minimum"] <= t["medium"] <= t["high"]:
             raise InputError(f"{path}: thresholds.{key}: expected minimum <= medium <= high, got {t}")
@@ -265,8 +272,23 @@ def _check_consistency(path: Path, config: dict) -> None:
             raise InputError(f"{path}: dwellings.by_pattern: not a regular expression ({exc})") from None
         if "dwelling" not in rx.groupindex:
             raise InputError(f"{path}: dwellings.by_pattern: needs a named group (?P<dwelling>...) that names the dwelling")
+    if "daylight" in config:
+        _check_daylight(path, config["daylight"])
     if "view" in config:
         st = config["view"]["distance_statistic"]
         if st.startswith("p") and not 0 <= int(st[1:]) <= 100:
             raise InputError(f"{path}: view.distance_statistic: percentile must be 0..100, got {st}")
 
+
+
+def _check_daylight(path: Path, d: dict) -> None:
+    """The daylight section's rules: where E_v,d,med and the hourly sky come from."""
+    w = d.get("weather")
+    if w is not None and not (path.parent / w).is_file():
+        raise InputError(f"{path}: daylight.weather: file not found: {path.parent / w}; give an EPW weather file of the site")
+    if d["method"] == "climate_based" and w is None:
+        raise InputError(f"{path}: daylight.weather: required by daylight.method: climate_based (an EPW file of the site); "
+                         "or use method: daylight_factor with median_diffuse_lx")
+    if d["method"] == "daylight_factor" and w is None and d.get("median_diffuse_lx") is None:
+        raise InputError(f"{path}: daylight.median_diffuse_lx: the daylight factor method needs E_v,d,med: give "
+                         "median_diffuse_lx [lx] (EN 17037 Table A.3 lists it for European capitals) or a weather file (EPW)")

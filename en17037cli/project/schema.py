@@ -36,7 +36,8 @@ def _describe(error: jsonschema.ValidationError) -> str:
         return f"expected {json.dumps(error.validator_value)}, got {json.dumps(inst, default=str)}"
     if v == "oneOf" and isinstance(inst, dict) and error.path and isinstance(error.path[-1], int) and "layer" not in inst \
             and "path" not in inst:
-        return "a room needs 'name' and 'floor_z', or 'ifc_spaces' (one room per IfcSpace of the model)"
+        return ("a room needs 'name' and 'floor_z', or 'ifc_spaces' / 'gbxml_spaces' (one room per IfcSpace / gbXML Space "
+                "of the model)")
     if v == "not" and isinstance(inst, dict) and "path" in inst:
         return "give 'layer' (one layer for the whole file) or 'layers' (rules by name), not both"
     if v == "anyOf" and isinstance(inst, dict) and "layer" in inst:

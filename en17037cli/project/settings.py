@@ -26,6 +26,8 @@ class LayerRule:
     layer: str
     obstructs_sun: bool = True
     keys: tuple[tuple[str, str], ...] = ()
+    reflectance: float | None = None  # visible, 0..1 (daylight, clause 5.1); None: the layer's default
+    transmittance: float | None = None  # visible, normal-hemispherical, 0..1, for glazing; None: the default
 
     def describe(self) -> str:
         """The rule as the project file writes it, for messages."""
@@ -102,6 +104,7 @@ class Requirements:
     view: str
     sunlight: str
     sunlight_rooms: str = "all"
+    daylight: str = "none"
 
 
 @dataclass(frozen=True)
@@ -111,6 +114,7 @@ class RoomSpec:
     floor_z : [m], in the scene frame; ceiling_z : [m] or None (derived from the model)
     ifc_spaces : a glob on IfcSpace names: the entry stands for one room per matched space (the
         scene makes their specs; ``name`` and ``floor_z`` are then None)
+    gbxml_spaces : the same on the Spaces of a gbXML model
     floor : (k, 2) [m] polygon in the scene frame, or None (derived from the model)
     windows : globs on window names, or None: every window that bounds the room
     window_margin_m : [m], how far beyond the floor's outline a window of the room may lie (the wall)
@@ -129,6 +133,7 @@ class RoomSpec:
     sun_points: np.ndarray | None
     requirements: Requirements
     ifc_spaces: str | None = None
+    gbxml_spaces: str | None = None
 
 
 @dataclass(frozen=True)
@@ -173,6 +178,46 @@ class SunSettings:
 
 
 @dataclass(frozen=True)
+class RadianceParams:
+    """Radiance's ambient parameters of a daylight run (see ``rtrace(1)``): bounces ``ab``, divisions
+    ``ad``, super-samples ``as``, the weight limit ``lw``; ``replicates``: independent estimates per
+    point, whose spread gives each value's Monte Carlo error."""
+
+    ab: int = 5
+    ad: int = 512
+    as_: int = 0
+    lw: float = 1e-3
+    replicates: int = 4
+
+
+@dataclass(frozen=True)
+class DaylightSettings:
+    """``daylight:`` section (clause 5.1). See the project schema for each key's meaning.
+
+    weather : the EPW file, resolved, or None; weather_display : as the project file writes it
+    reflectance : surface -> visible reflectance (floor, walls, ceiling, landscape, ground)
+    """
+
+    method: str  # daylight_factor | climate_based
+    median_diffuse_lx: float | None
+    weather: Path | None
+    weather_display: str | None
+    reference_plane_m: float
+    grid_spacing_m: float
+    wall_margin_m: float
+    aggregation: str  # hours_first | points_first
+    sky_subdivision: int
+    sun_subdivision: int
+    glazing_transmittance: float
+    reflectance: tuple[tuple[str, float], ...]
+    radiance: RadianceParams
+    grid_offset: float = 0.0
+
+    def reflectance_of(self, surface: str) -> float:
+        return dict(self.reflectance)[surface]
+
+
+@dataclass(frozen=True)
 class DwellingSpec:
     """One dwelling as the project file lists it: globs on room names (``main_rooms``: the rooms that
     may satisfy the sunlight rule; None: every room of the dwelling)."""
@@ -211,6 +256,7 @@ class Project:
     requirements: Requirements
     thresholds: Thresholds
     config: dict
+    daylight: DaylightSettings | None = None
     dwellings: DwellingsSpec | None = None
     practice: str = "en17037"
     practice_set: tuple[tuple[str, object], ...] = ()  # the values the practice set (key path, value)
@@ -232,9 +278,25 @@ def sun_settings(d: dict) -> SunSettings:
     return _fields(SunSettings, d, period_start=d["period"]["start"], period_end=d["period"]["end"])
 
 
+def daylight_settings(d: dict, directory: Path) -> DaylightSettings:
+    rp = d["radiance"]
+    w = d.get("weather")
+    return DaylightSettings(
+        method=d["method"], median_diffuse_lx=None if d.get("median_diffuse_lx") is None else float(d["median_diffuse_lx"]),
+        weather=None if w is None else (directory / w).resolve(), weather_display=w,
+        reference_plane_m=float(d["reference_plane_m"]), grid_spacing_m=float(d["grid_spacing_m"]),
+        wall_margin_m=float(d["wall_margin_m"]), aggregation=d["aggregation"], sky_subdivision=int(d["sky_subdivision"]),
+        sun_subdivision=int(d["sun_subdivision"]), glazing_transmittance=float(d["glazing_transmittance"]),
+        reflectance=tuple((k, float(v)) for k, v in d["reflectance"].items()),
+        radiance=RadianceParams(ab=int(rp["ab"]), ad=int(rp["ad"]), as_=int(rp["as"]), lw=float(rp["lw"]),
+                                replicates=int(rp["replicates"])),
+        grid_offset=float(d.get("grid_offset", 0.0)))
+
+
 def layer_rule(r: dict) -> LayerRule:
     keys = [(k, r[k]) for k in RULE_KEYS if k in r] + [(f"attr.{k}", v) for k, v in r.get("attributes", {}).items()]
-    return LayerRule(r.get("match"), r["layer"], bool(r.get("obstructs_sun", True)), tuple(keys))
+    opt = {k: float(r[k]) for k in ("reflectance", "transmittance") if k in r}
+    return LayerRule(r.get("match"), r["layer"], bool(r.get("obstructs_sun", True)), tuple(keys), **opt)
 
 
 def dwellings_spec(d) -> DwellingsSpec | None:

@@ -31,12 +31,16 @@ def site_entry(scene) -> dict:
 
 
 def summary(result: RunResult) -> dict:
-    """Counts for people and pipelines: rooms meeting view, dwellings meeting sunlight."""
+    """Counts for people and pipelines: rooms meeting view (and daylight, where it runs or is
+    required), dwellings meeting sunlight."""
     view = [r.status("view") for r in result.rooms if r.status("view") is not None]
     sun = [d.status for d in result.dwellings if d.status is not None]
     out = {"rooms": len(result.rooms), "rooms_view_required": len(view), "rooms_view_pass": view.count("pass"),
            "dwellings": len(result.dwellings), "dwellings_sunlight_required": len(sun),
            "dwellings_sunlight_pass": sun.count("pass")}
+    daylight = [r.status("daylight") for r in result.rooms if r.status("daylight") is not None]
+    if daylight:
+        out |= {"rooms_daylight_required": len(daylight), "rooms_daylight_pass": daylight.count("pass")}
     if result.scene.spaces:  # rooms from a model's spaces: the ones with windows that could not be assessed
         out["spaces_with_windows_not_assessed"] = sum(1 for lo in result.scene.left_out if lo.windows)
     return out

@@ -32,7 +32,7 @@ class Figure:
 
     name: str
     room: str
-    section: str  # "view" or "sunlight"
+    section: str  # "view", "sunlight" or "daylight"
     caption: str
     png: bytes
 
@@ -123,12 +123,43 @@ def sunlight_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
     return out
 
 
+def daylight_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
+    """The daylight map of room ``i``: its daylight factor (method 1, the D_T of each level marked) or
+    its share of the daylight hours reaching the target illuminance of the level measured to (method 2,
+    50 % marked); points within their error of a threshold ringed."""
+    r = result.rooms[i]
+    res, plan = r.assessed("daylight"), r.illustrations.get("daylight")
+    if res is None or plan is None or not len(res.points_local):
+        return []
+    from en17037cli import standard
+
+    xy = result.scene.to_world(res.points_local)[:, :2]
+    et = result.project.thresholds.daylight_target_lx.as_dict()
+    if res.daylight_factor_pct is not None:
+        dt = {k: round(100.0 * v / res.median_diffuse_lx, 2) for k, v in et.items()}
+        etm = result.project.thresholds.daylight_minimum_target_lx.as_dict()
+        lines = [100.0 * v / res.median_diffuse_lx for v in [*et.values(), *etm.values()]]
+        near = np.any([np.abs(res.daylight_factor_pct - t) <= res.daylight_factor_err_pct for t in lines], axis=0)
+        kind, vals, th, words = "daylight_factor", res.daylight_factor_pct, dt, "daylight factor"
+    else:
+        level = standard.LEVELS[standard.target_level(res.level, r.required("daylight"))]
+        lx = et[level]
+        vals, err = res.share_of_hours[lx], res.share_of_hours_err[lx]
+        near = np.abs(vals - 0.5) <= err
+        kind, th, words = "share_of_hours", {"minimum": 0.5, "medium": 0.5, "high": 0.5}, f"share of hours >= {lx:g} lx"
+    title = f"{r.room.name}: {words}"
+    return [Job(f"{FIGURES_DIR}/{slug}-daylight-{kind.replace('_', '-')}.png", r.room.name, "daylight", title, "plan_map",
+                (xy, vals), {"kind": kind, "thresholds": th, "floor": plan.floor, "utilised": plan.utilised,
+                             "windows": plan.windows, "true_north_deg": plan.true_north_deg, "near": near,
+                             "spacing_m": plan.spacing_m, "title": title})]
+
+
 def figure_jobs(result: RunResult) -> list[Job]:
     """Every picture of a run (a run made with ``pictures=True``), room by room, as jobs."""
     out = []
     for i, r in enumerate(result.rooms):
         slug = room_slug(i, r.room.name)
-        out += view_jobs(result, i, slug) + sunlight_jobs(result, i, slug)
+        out += view_jobs(result, i, slug) + sunlight_jobs(result, i, slug) + daylight_jobs(result, i, slug)
     return out
 
 

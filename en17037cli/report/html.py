@@ -11,7 +11,15 @@ import base64
 from html import escape
 
 from en17037cli.report.labels import STATUS_LABEL, assessed
-from en17037cli.report.markdown import dwellings_markdown, parameter_lines, share_table, verdict_rows, window_rows
+from en17037cli.report.markdown import (
+    daylight_paragraph,
+    daylight_table,
+    dwellings_markdown,
+    parameter_lines,
+    share_table,
+    verdict_rows,
+    window_rows,
+)
 from en17037cli.report.numbers import fmt_bound, fmt_duration
 from en17037cli.report.verdicts import limit_text
 
@@ -103,6 +111,12 @@ def _room(room: dict, figures) -> list[str]:
               f"(± {fmt_duration(s['error_estimates']['hours_error_h'])}). Over the period: {fmt_duration(min(hrs))} to "
               f"{fmt_duration(max(hrs))} a day.</p>"]
         H += [_figure(f) for f in pics if f.section == "sunlight"]
+    d = assessed(room.get("daylight"))
+    if d:
+        text = daylight_paragraph(d).split("; ", 1)[1].replace("`", "")
+        H += [f"<h3>Daylight provision: {escape(d['level'])} {_status(STATUS_LABEL[d['status']])}</h3>",
+              f"<p>Required: {escape(d['required'])}. {escape(text)}</p>", _table(daylight_table(d))]
+        H += [_figure(f) for f in pics if f.section == "daylight"]
     H.append("</section>")
     return H
 
@@ -119,8 +133,8 @@ def report_html(report: dict, figures=()) -> str:
          f"<h1>{escape(title)}</h1>",
          f'<p><span class="verdict {status}">{status}</span> '
          f'<span class="small">en17037cli {escape(report["tool"]["version"])}, project file '
-         f'<code>{escape(report["project"]["file"])}</code>; EN 17037:2018+A1:2021 clauses 5.2 (view out) and 5.3 '
-         "(exposure to sunlight).</span></p>",
+         f'<code>{escape(report["project"]["file"])}</code>; EN 17037:2018+A1:2021 clauses 5.1 (daylight provision), 5.2 '
+         "(view out) and 5.3 (exposure to sunlight).</span></p>",
          '<h2 id="verdict">Verdict</h2>']
     rows = verdict_rows(report)
     H.append(_table([["room", "check", "reached", "required", "result", "what limits it", "score"]]

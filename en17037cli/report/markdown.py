@@ -33,7 +33,7 @@ def dwellings_markdown(report: dict) -> list[str]:
 
 
 #: (criterion key, how the reports title it)
-CHECKS = (("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)"))
+CHECKS = (("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)"), ("daylight", "daylight provision (5.1)"))
 
 
 def verdict_rows(report: dict) -> list[dict]:
@@ -42,12 +42,12 @@ def verdict_rows(report: dict) -> list[dict]:
     rows = []
     for room in report["rooms"]:
         for key, title in CHECKS:
-            sec = room[key]
+            sec = room.get(key)
             if sec is None:
                 continue
             u = unassessed(sec)
             limit = limit_text(key, sec) if not u else f"{u['reason']}"
-            if key == "sunlight" and assessed(sec) and sec["near_threshold"]:
+            if key in ("sunlight", "daylight") and assessed(sec) and sec["near_threshold"]:
                 limit += " (within its error estimate of a threshold)"
             score = (sec.get("score") or {}).get("value")
             rows.append({"room": room["name"], "check": title, "reached": sec["level"] or "-", "required": sec["required"],
@@ -82,13 +82,24 @@ def parameter_lines(report: dict) -> list[str]:
               f"Location: {site['latitude']} N, {site['longitude']} E, {site['timezone']}; "
               f"true north {site['true_north_deg']} deg clockwise from model +Y."]
         L += [f"{key} {v['value']} from {v['source']}." for key, v in report["inputs"].get("resolved", {}).items()]
+    if "daylight" in cfg:
+        d = cfg["daylight"]
+        r = d["radiance"]
+        L += [f"Daylight: {'method 1, daylight factor under the CIE overcast sky' if d['method'] == 'daylight_factor' else 'method 2, climate-based, ' + d['aggregation'].replace('_', ' ')}; "
+              f"reference plane {d['reference_plane_m']} m above the floor, grid {d['grid_spacing_m']} m over the floor inset by "
+              f"{d['wall_margin_m']} m; reflectance floor / walls / ceiling {d['reflectance']['floor']} / {d['reflectance']['walls']} / "
+              f"{d['reflectance']['ceiling']}, landscape {d['reflectance']['landscape']}, ground {d['reflectance']['ground']}; glazing "
+              f"tv {d['glazing_transmittance']} (layer rules' values win); Radiance -ab {r['ab']} -ad {r['ad']} -as {r['as']} -lw {r['lw']}, "
+              f"{r['replicates']} replicates per point."]
     t = cfg["thresholds"]
 
     def fmt(d):
         return " / ".join(f"{d[k]:g}" for k in LEVELS[1:])
 
     L += [f"Thresholds (minimum / medium / high): sight angle {fmt(t['horizontal_sight_angle_deg'])} deg, outside distance "
-          f"{fmt(t['outside_distance_m'])} m, sunlight {fmt(t['sunlight_hours'])} h."]
+          f"{fmt(t['outside_distance_m'])} m, sunlight {fmt(t['sunlight_hours'])} h"
+          + (f", daylight target {fmt(t['daylight_target_lx'])} lx on 50 % and minimum target {fmt(t['daylight_minimum_target_lx'])} "
+             "lx on 95 % of the plane." if "daylight" in cfg else ".")]
     return L
 
 
@@ -98,6 +109,31 @@ def share_table(e: dict) -> list[list[str]]:
     for c, share in e["share_by_level"].items():
         lv = e["level"] if c == "view" else e["level_by_criterion"].get(c, "")
         rows.append([c.replace("_", " "), *(f"{share[k]:.0%}" for k in LEVELS[1:]), lv])
+    return rows
+
+
+def daylight_paragraph(d: dict) -> str:
+    """The daylight verdict of a room in words: level, method, E_v,d,med and its source, the errors."""
+    ee = d["error_estimates"]
+    how = ("daylight factor (method 1)" if d["method"] == "daylight_factor"
+           else f"climate-based (method 2, {d['aggregation'].replace('_', ' ')}, {d['daylight_hours']} daylight hours)")
+    err = (f"D ± {ee['max_daylight_factor_error_pct']} % at most" if "max_daylight_factor_error_pct" in ee
+           else f"share of hours ± {ee.get('max_share_of_hours_error')} at most")
+    med = f"median D {d['median_daylight_factor_pct']} %; " if "median_daylight_factor_pct" in d else ""
+    return (f"**Daylight provision: {d['level']}** (required {d['required']}, {STATUS_LABEL[d['status']]}); "
+            f"{limit_text('daylight', d)}. {how}; E_v,d,med {d['median_diffuse_lx']:g} lx ({d['median_diffuse_source']}); "
+            f"{med}{len(d['points'])} points ({err}; shares ± {d['error_estimates']['max_share_error']}). Every point: "
+            "`daylight_points.csv`.")
+
+
+def daylight_table(d: dict) -> list[list[str]]:
+    """Rows of the shares of the plane reaching each level's target and minimum target (Table A.1)."""
+    rows = [["level", "target", "share (50 % needed)", "minimum target", "share (95 % needed)"]]
+    for name, lv in d["levels"].items():
+        dt = f" (D {lv['target_daylight_factor_pct']:g} %)" if "target_daylight_factor_pct" in lv else ""
+        dtm = f" (D {lv['minimum_target_daylight_factor_pct']:g} %)" if "minimum_target_daylight_factor_pct" in lv else ""
+        rows.append([name, f"{lv['target_lx']:g} lx{dt}", f"{lv['target_share']:.0%} ± {lv['target_share_error']:.0%}",
+                     f"{lv['minimum_target_lx']:g} lx{dtm}", f"{lv['minimum_target_share']:.0%} ± {lv['minimum_target_share_error']:.0%}"])
     return rows
 
 
@@ -162,6 +198,10 @@ def report_markdown(report: dict, figures=()) -> str:
                   f"{limit_text('sunlight', s)}; ± {fmt_duration(s['error_estimates']['hours_error_h'])}. Over the period "
                   f"{fmt_duration(min(hrs))} to {fmt_duration(max(hrs))} a day (every day: `sunlight_days.csv`).", ""]
             L += [f"![{f.caption}]({f.name})" for f in pics if f.section == "sunlight"]
+        d = assessed(room.get("daylight"))
+        if d:
+            L += ["", daylight_paragraph(d), ""] + _md_table(daylight_table(d)) + [""]
+            L += [f"![{f.caption}]({f.name})" for f in pics if f.section == "daylight"]
     if report["notes"] or report["warnings"]:
         L += ["", "## Notes", ""] + [f"- {n}" for n in report["warnings"] + report["notes"]]
     return "\n".join(L) + "\n"

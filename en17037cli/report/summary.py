@@ -24,7 +24,7 @@ COLUMNS = ("project", "variant", "room", "criterion", "level", "required", "stat
 #: Columns that hold wall times: the only ones that differ between runs of the same inputs.
 TIME_COLUMNS = ("time_s",)
 #: Criteria of a room, in report order.
-CRITERIA = ("view", "sunlight")
+CRITERIA = ("view", "sunlight", "daylight")
 #: Status of a row that stands for a run that did not finish (bad input, internal error).
 ERROR = "error"
 #: The summary file's format, in ``summary.json``.
@@ -84,6 +84,14 @@ def view_share(section: dict) -> float | None:
     return min(shares) if shares else None
 
 
+def daylight_share(section: dict) -> float | None:
+    """The share of the reference plane that limits a room's daylight level (the ``limiting`` value
+    of report.json: the share reaching the target or minimum target illuminance of the level
+    measured to), compared with 50 % or 95 % (clause 5.1, Table A.1)."""
+    lim = section.get("limiting") or {}
+    return lim.get("value")
+
+
 def room_rows(report: dict, times: dict[str, dict[str, float]] | None = None) -> list[dict]:
     """One row per room and criterion of a report.json document (criteria neither run nor
     required are left out), in report order; ``times``: room -> criterion -> wall time [s]."""
@@ -106,7 +114,8 @@ def room_rows(report: dict, times: dict[str, dict[str, float]] | None = None) ->
                 "room": room["name"], "criterion": crit, "level": sec["level"], "required": sec["required"],
                 "status": status, "verdict": verdict, "dwelling": dwelling, "dwelling_status": d_status,
                 "hours": sec.get("hours") if assessed else None, "assessed_date": sec.get("assessed_date") if assessed else None,
-                "share": view_share(sec) if assessed and crit == "view" else None,
+                "share": (view_share(sec) if crit == "view" else daylight_share(sec) if crit == "daylight" else None)
+                if assessed else None,
                 "hours_error_h": err.get("hours_error_h"),
                 "max_solid_angle_error_sr": err.get("max_solid_angle_error_sr"),
                 "max_horizontal_sight_angle_error_deg": err.get("max_horizontal_sight_angle_error_deg"),

@@ -41,6 +41,28 @@ def sunlight_days_csv(report: dict) -> str:
     return buf.getvalue()
 
 
+def daylight_points_csv(report: dict) -> str:
+    """``daylight_points.csv``: one row per point of each room's reference plane (clause 5.1): its
+    daylight factor (method 1) or its share of the daylight hours reaching each target illuminance
+    of Table A.1 (method 2, ``share_of_hours_<lx>lx``), with their error estimates."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    lux = sorted({float(k) for room in report["rooms"] if assessed(room.get("daylight"))
+                  for p in room["daylight"]["points"][:1] for k in p.get("share_of_hours", {})})
+    w.writerow(["room", "method", "x_m", "y_m", "z_m", "daylight_factor_pct", "daylight_factor_error_pct",
+                *[f"share_of_hours_{lx:g}lx" for lx in lux], *[f"share_of_hours_{lx:g}lx_error" for lx in lux]])
+    for room in report["rooms"]:
+        sec = assessed(room.get("daylight"))
+        if not sec:
+            continue
+        for p in sec["points"]:
+            sh, se = p.get("share_of_hours", {}), p.get("share_of_hours_error", {})
+            w.writerow([room["name"], sec["method"], *p["point"], p.get("daylight_factor_pct", ""),
+                        p.get("daylight_factor_error_pct", ""), *[sh.get(f"{lx:g}", "") for lx in lux],
+                        *[se.get(f"{lx:g}", "") for lx in lux]])
+    return buf.getvalue()
+
+
 def rooms_csv(report: dict) -> str:
     """``rooms.csv``: one row per room and check: level, requirement, status, what limits it and
     the continuous score with its margins (view: the limiting eye height and criterion)."""
@@ -51,8 +73,8 @@ def rooms_csv(report: dict) -> str:
                 "margin_up", "margin_down"])
     blank = lambda v: "" if v is None else v  # noqa: E731
     for room in report["rooms"]:
-        for key in ("view", "sunlight"):
-            sec = room[key]
+        for key in ("view", "sunlight", "daylight"):
+            sec = room.get(key)
             if sec is None:
                 continue
             lim, sc = sec.get("limiting") or {}, sec.get("score") or {}

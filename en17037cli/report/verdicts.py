@@ -48,9 +48,23 @@ def sunlight_limit_text(section: dict) -> str:
     return f"sunlight: {fmt_duration(section['hours'])} on {long_date(section['assessed_date'])}, {how} {lim['level']}"
 
 
+def daylight_limit_text(section: dict) -> str:
+    """``daylight: 41 % of the plane reaches 300 lx (D >= 2.1 %) at minimum, 50 % needed``."""
+    lim = section["limiting"]
+    lv = section["levels"][lim["level"]]
+    minimum = lim["criterion"] == "daylight_minimum_target"
+    lx = lv["minimum_target_lx" if minimum else "target_lx"]
+    df = lv.get("minimum_target_daylight_factor_pct" if minimum else "target_daylight_factor_pct")
+    how = f" (D ≥ {df:g} %)" if df is not None else " on half of the daylight hours"
+    return (f"daylight: {percent(lim['value'])} of the plane reaches {lx:g} lx{how} at {lim['level']}, "
+            f"{percent(lim['needed'])} needed")
+
+
 def limit_text(criterion: str, section: dict | None) -> str:
     """The sentence for a room's criterion section, or "" where it holds no result."""
     s = assessed(section)
     if s is None or "limiting" not in s:
         return ""
+    if criterion == "daylight":
+        return daylight_limit_text(s)
     return view_limit_text(s) if criterion == "view" else sunlight_limit_text(s)

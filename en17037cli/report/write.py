@@ -8,7 +8,7 @@ from pathlib import Path
 from en17037cli.report.folder import commit
 from en17037cli.report.html import report_html
 from en17037cli.report.markdown import report_markdown
-from en17037cli.report.tables import rooms_csv, sunlight_days_csv, view_points_csv
+from en17037cli.report.tables import daylight_points_csv, rooms_csv, sunlight_days_csv, view_points_csv
 
 
 def report_json(report: dict, figures=()) -> str:
@@ -22,6 +22,7 @@ WRITERS: dict[str, Callable[..., str]] = {
     "report.json": report_json,
     "view_points.csv": lambda report, figures=(): view_points_csv(report),
     "sunlight_days.csv": lambda report, figures=(): sunlight_days_csv(report),
+    "daylight_points.csv": lambda report, figures=(): daylight_points_csv(report),
     "rooms.csv": lambda report, figures=(): rooms_csv(report),
     "report.md": report_markdown,
     "report.html": report_html,

@@ -83,11 +83,11 @@ def build_scene(project: Project) -> Scene:
         resolved["model.true_north_deg"] = north_src
     scene = Scene(vertices=local, triangles=g.triangles, layer=g.layer, obstructs_sun=g.obstructs_sun, parts=g.parts,
                   part=g.part, notes=g.notes, warnings=g.warnings, file_hashes=g.file_hashes, sites=g.sites, spaces=g.spaces,
-                  windows_left_out=g.windows_left_out,
+                  optics=g.optics, read=g.read, windows_left_out=g.windows_left_out,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     scene.warnings.extend(check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where))
     for spec in project.rooms:
-        if spec.ifc_spaces is not None:
+        if spec.ifc_spaces is not None or spec.gbxml_spaces is not None:
             scene.rooms.extend(rooms_from_spaces(scene, spec, f"{where}: rooms[{spec.index}]"))
         else:
             scene.rooms.append(make_room(scene, spec, f"{where}: rooms[{spec.index}] '{spec.name}'"))

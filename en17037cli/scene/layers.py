@@ -74,3 +74,19 @@ def assign_layers(spec: ModelFile, mesh: Mesh, where: str, stem: str) -> tuple[n
                 "check the name (validate --objects lists them)" for k, (r, u) in enumerate(zip(spec.rules, used))
                 if not u and not (r.match == "*" and not r.keys)]
     return by_part, sun, warnings
+
+
+def assign_optics(spec: ModelFile, mesh: Mesh, stem: str) -> np.ndarray | None:
+    """Per-part (reflectance, transmittance) from the first rule that places the part (as
+    :func:`assign_layers` picks it), NaN where the rule gives none (the daylight defaults apply);
+    None when no rule of the file gives either (the usual case: nothing to carry)."""
+    if spec.layer is not None or not any(r.reflectance is not None or r.transmittance is not None for r in spec.rules):
+        return None
+    out = np.full((len(mesh.parts), 2), np.nan)
+    for i, part in enumerate(mesh.parts):  # one pass per part, not per face
+        candidates = match_candidates(part, stem)
+        rule = next((r for r in spec.rules if rule_matches(r, part, candidates)), None)
+        if rule is not None:
+            out[i] = [np.nan if rule.reflectance is None else rule.reflectance,
+                      np.nan if rule.transmittance is None else rule.transmittance]
+    return out

@@ -13,7 +13,7 @@ from en17037cli.geometry import triangle_normals
 from en17037cli.io import ReadOptions, is_context, read_model
 from en17037cli.io.mesh import Mesh, Space
 from en17037cli.project.settings import ModelFile, ModelSettings, Transform
-from en17037cli.scene.layers import assign_layers
+from en17037cli.scene.layers import assign_layers, assign_optics
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry
 
 #: Length of one model unit [m].
@@ -60,6 +60,7 @@ class LoadedFile:
     vertices: np.ndarray  # (n, 3) float64 [m], world frame
     part_layer: np.ndarray  # (parts,) int layer code, -1 ignore
     part_sun: np.ndarray  # (parts,) bool
+    part_optics: np.ndarray | None = None  # (parts, 2) reflectance, transmittance from the rules (NaN: default), or None
 
 
 #: Meshes already read, by (path, size, modification time, options), while a
@@ -86,10 +87,25 @@ def read_file(i: int, spec: ModelFile, model: ModelSettings, where: str, options
     warnings.extend(mesh.warnings)
     units = spec.units or mesh.units or model.units
     up = spec.up_axis or mesh.up_axis or model.up_axis
-    verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
     part_layer, part_sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
+    if mesh.openings_drawn:
+        mesh = _cut_drawn_openings(mesh, part_layer, UNIT_SCALE_M[units], spec.display)
+    verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
     warnings.extend(unmatched)
-    return LoadedFile(i, spec, mesh, verts, part_layer, part_sun)
+    return LoadedFile(i, spec, mesh, verts, part_layer, part_sun, assign_optics(spec, mesh, spec.path.stem))
+
+
+def _cut_drawn_openings(mesh: Mesh, part_layer: np.ndarray, unit_m: float, name: str) -> Mesh:
+    """The mesh with each window cut out of the coplanar opaque faces it is drawn on (DXF), and a note."""
+    from en17037cli.io.openings import PLANE_TOLERANCE_M, cut_openings
+
+    v, t, p, n = cut_openings(mesh.vertices, mesh.triangles, mesh.part, part_layer == WINDOW,
+                              (part_layer >= 0) & (part_layer != WINDOW), PLANE_TOLERANCE_M / unit_m)
+    if n == 0:
+        return mesh
+    note = (f"{name}: {n} window plane{'s' * (n != 1)} drawn on coplanar opaque faces (walls drawn whole with the "
+            "windows on top, as EnergyPlus writes them): the openings cut in those faces")
+    return replace(mesh, vertices=v, triangles=t, part=p, notes=[*mesh.notes, note])
 
 
 #: Compound CRSs whose horizontal part is another code: files in either line up in plan.
@@ -97,9 +113,11 @@ HORIZONTAL_CRS = {"EPSG:7415": "EPSG:28992"}  # Amersfoort / RD New + NAP height
 
 
 def check_crs(files: list[LoadedFile], where: str) -> str | None:
-    """The one CRS the georeferenced files share (a file's own ``crs`` key wins over what it says),
-    or None when none says; different CRSs are an input error naming both files."""
-    said = [(f.spec.display, f.spec.crs or (f.mesh.site.crs if f.mesh.site else None)) for f in files]
+    """The one CRS the georeferenced files share (a file's own ``crs`` key wins over what it says,
+    a file its reader projected is in the CRS it was projected to), or None when none says;
+    different CRSs are an input error naming both files."""
+    said = [(f.spec.display, f.mesh.site.crs if f.mesh.site and f.mesh.site.reprojected_from
+             else f.spec.crs or (f.mesh.site.crs if f.mesh.site else None)) for f in files]
     said = [(d, c) for d, c in said if c]
     if not said:
         return None
@@ -109,6 +127,16 @@ def check_crs(files: list[LoadedFile], where: str) -> str | None:
             raise InputError(f"{where}: model.files: {first[0]} is in {first[1]} but {d} is in {c}; give both in one CRS "
                              "(reproject one, or set the 'crs' key of a file whose own is wrong)")
     return first[1]
+
+
+def read_summary(mesh: Mesh) -> str:
+    """What a file's reader read and left out, one line: the reader's own (spaces, openings, objects
+    by LoD...), else its triangles, objects and spaces counted."""
+    if mesh.summary:
+        return mesh.summary
+    n, k = len(mesh.triangles), len(mesh.parts)
+    spaces = f", {len(mesh.spaces)} space{'s' * (len(mesh.spaces) != 1)}" if mesh.spaces else ""
+    return f"{n} triangle{'s' * (n != 1)} in {k} part{'s' * (k != 1)} (named objects, each with its layer){spaces}"
 
 
 def building_footprint(files: list[LoadedFile]):
@@ -150,9 +178,11 @@ def load_geometry(model: ModelSettings, where: str) -> Geometry:
             own.append(read_file(i, spec, model, where, ReadOptions(exclude=spec.exclude), warnings))
     if context:
         near_xy, footprint = _context_bounds(own)
+        target = check_crs(own, where)  # city models in another CRS are projected to the model's (CityGML)
         for i, spec in context:  # city models: cut to the radius, without the model's own building
             options = ReadOptions(lod=spec.lod, exclude=spec.exclude,
-                                  near=None if near_xy is None else (near_xy, spec.context_radius_m))
+                                  near=None if near_xy is None else (near_xy, spec.context_radius_m),
+                                  crs=spec.crs, target_crs=target)
             f = read_file(i, spec, model, where, options, warnings)
             if spec.exclude_overlapping and footprint is not None:
                 f = _without_the_building(f, footprint, notes)
@@ -199,7 +229,7 @@ def placed_space(space: Space, spec: ModelFile) -> Space:
 
 
 def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> Geometry:
-    all_v, all_t, all_l, all_s, all_p, parts = [], [], [], [], [], []
+    all_v, all_t, all_l, all_s, all_p, all_o, parts = [], [], [], [], [], [], []
     offset = 0
     dropped = glazing_parts = 0
     for f in files:  # one pass per model file
@@ -218,6 +248,7 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
         all_t.append(tris[keep] + offset)
         all_l.append(layer[keep])
         all_s.append(sun[keep])
+        all_o.append(np.full((int(np.count_nonzero(keep)), 2), np.nan) if f.part_optics is None else f.part_optics[mesh.part[keep]])
         all_p.append(mesh.part[keep] + len(parts))
         parts.extend(replace(p, attrs={**p.attrs, "file": f.spec.path.stem}) for p in mesh.parts)
         offset += len(verts)
@@ -230,6 +261,8 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
                  sites=[(f.spec.display, f.mesh.site, f.spec.transform.rotate_deg if f.spec.transform else 0.0)
                         for f in files if f.mesh.site is not None],
                  spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces],
+                 optics=np.concatenate(all_o) if any(f.part_optics is not None for f in files) else None,
+                 read=[(f.spec.display, read_summary(f.mesh)) for f in files],
                  windows_left_out=[(f.spec.display, *w) for f in files for w in f.mesh.windows_left_out])
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "

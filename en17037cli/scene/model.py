@@ -111,6 +111,8 @@ class Geometry:
     part : (m,) int64 index into ``parts`` (each part's attributes include ``file``)
     sites : (file, Site, the file's rotation [deg]) of files that say where they stand
     spaces : (file, Space) of files that define rooms (IfcSpace), placed like their file's faces
+    optics : (m, 2) float visible reflectance and transmittance a layer rule gives each face (NaN
+        where none does: the daylight criterion's defaults apply), or None when no rule gives any
     windows_left_out : (file, window label, why) of windows the files define that give no glazing
     """
 
@@ -125,6 +127,8 @@ class Geometry:
     file_hashes: dict[str, str] = field(default_factory=dict)
     sites: list = field(default_factory=list)
     spaces: list = field(default_factory=list)
+    optics: np.ndarray | None = None  # (m, 2) reflectance, transmittance per face from the layer rules (NaN: default)
+    read: list = field(default_factory=list)  # (file, one line of what its reader read and left out), for validate
     #: (file, window label, why) of windows the files define that give no glazing (Mesh.windows_left_out)
     windows_left_out: list = field(default_factory=list)
 

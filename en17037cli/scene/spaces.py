@@ -1,5 +1,6 @@
-"""Rooms from the spaces a model defines (IfcSpace; any reader's :class:`~en17037cli.io.mesh.Space`):
-one room per space a project's ``ifc_spaces`` glob picks, each with the windows that open into it.
+"""Rooms from the spaces a model defines (IfcSpace, gbXML Space; any reader's
+:class:`~en17037cli.io.mesh.Space`): one room per space a project's ``ifc_spaces`` /
+``gbxml_spaces`` glob picks among the spaces of that kind, each with the windows that open into it.
 
 Windows are matched to spaces by geometry first, over every space of the model at once
 (:func:`match_windows`): a window opens into the space whose boundary its glazing lies on, within
@@ -75,15 +76,14 @@ def space_names(scene: Scene) -> list[str]:
 
 
 def extruded_body(footprint: np.ndarray, holes, z0: float, z1: float) -> np.ndarray:
-    """(k, 3, 3) [m]: the closed prism of a floor outline (with holes) from ``z0`` to ``z1``."""
-    import shapely
+    """(k, 3, 3) [m]: the closed prism of a floor outline (with holes) from ``z0`` to ``z1``; the
+    outline is ear-clipped with its holes (mapbox-earcut)."""
+    import mapbox_earcut
 
-    poly = shapely.Polygon(footprint, list(holes))
-    flat = triangulate_polygon(np.asarray(poly.exterior.coords)[:-1]) if not poly.interiors else None
-    if flat is None:
-        tris = shapely.get_parts(shapely.delaunay_triangles(poly))
-        keep = shapely.contains(poly, shapely.centroid(tris))
-        flat = np.array([np.asarray(t.exterior.coords)[:3] for t in tris[keep]]).reshape(-1, 3, 2)
+    rings = [np.asarray(footprint, dtype=float)[:, :2]] + [np.asarray(h, dtype=float)[:, :2] for h in holes]
+    xy = np.concatenate(rings)
+    ends = np.cumsum([len(r) for r in rings]).astype(np.uint32)
+    flat = xy[mapbox_earcut.triangulate_float64(xy, ends).reshape(-1, 3)]
     bottom = np.concatenate([flat, np.full(flat.shape[:2] + (1,), z0)], axis=-1)
     top = np.concatenate([flat, np.full(flat.shape[:2] + (1,), z1)], axis=-1)
     sides = []
@@ -248,14 +248,16 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     left out (``validate`` lists it); a space with windows but no usable floor is left out with the
     reason, and the run cannot pass (:attr:`Scene.left_out`).
     """
-    glob = spec.ifc_spaces or "*"
-    if not scene.spaces:
-        raise InputError(f"{where}.ifc_spaces: the model has no IfcSpace; list the rooms with name and floor_z instead")
-    picked = [(i, s) for i, (_, s) in enumerate(scene.spaces)
+    key, kind = ("gbxml_spaces", "gbXML Space") if spec.gbxml_spaces is not None else ("ifc_spaces", "IfcSpace")
+    glob = getattr(spec, key) or "*"
+    spaces = [(i, s) for i, (_, s) in enumerate(scene.spaces) if s.kind == kind]
+    if not spaces:
+        raise InputError(f"{where}.{key}: the model has no {kind}; list the rooms with name and floor_z instead")
+    picked = [(i, s) for i, s in spaces
               if any(fnmatch.fnmatchcase(v, glob) for v in (s.name, s.long_name, s.id, room_name(s)) if v)]
     if not picked:
-        known = ", ".join(room_name(s) for _, s in scene.spaces[:8])
-        raise InputError(f"{where}.ifc_spaces: '{glob}' matches no IfcSpace; spaces: {known}")
+        known = ", ".join(room_name(s) for _, s in spaces[:8])
+        raise InputError(f"{where}.{key}: '{glob}' matches no {kind}; spaces: {known}")
     matches = _space_windows(scene, spec.window_margin_m)
     by_space: dict[int, list[tuple[Window, str]]] = {}
     for w, m in zip(scene.windows, matches):
@@ -287,7 +289,7 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
             scene.left_out.append(LeftOut(name, f"its footprint is not usable ({why})", tuple(w.name for w, _ in chosen)))
             continue
         room.zones, room.storey = space.zones, space.storey
-        room.floor_source, room.ceiling_source = "the IfcSpace's footprint", "the IfcSpace's top"
+        room.floor_source, room.ceiling_source = f"the {kind}'s footprint", f"the {kind}'s top"
         rooms.append(room)
     return rooms
 

@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 
 #: Default error targets per kind of quantity (overridable with ``--target kind=value``).
-TARGETS = {"angle_deg": 0.01, "solid_angle_sr": 1e-3, "distance_m": 1e-3, "hours_s": 2.0, "share_pp": 5.0}
+TARGETS = {"angle_deg": 0.01, "solid_angle_sr": 1e-3, "distance_m": 1e-3, "hours_s": 2.0, "share_pp": 5.0,
+           "daylight_factor_pct": 0.1, "share_of_hours": 0.02}
 
 #: Errors below this fraction of the target are round-off: left out of the order fit (so are
 #: errors below twice the reference run's own error estimate: they are not measurable).
@@ -36,7 +37,7 @@ class Quantity:
 
     name: str
     kind: str  # key of TARGETS
-    check: str  # "view" | "sunlight"
+    check: str  # "view" | "sunlight" | "daylight"
 
 
 QUANTITIES = {
@@ -47,7 +48,13 @@ QUANTITIES = {
     "distance": Quantity("distance", "distance_m", "view"),
     "share_medium": Quantity("share_medium", "share_pp", "view"),
     "hours": Quantity("hours", "hours_s", "sunlight"),
+    # daylight provision: D per point (method 1) or the share of daylight hours per point and target (method 2)
+    "daylight_factor": Quantity("daylight_factor", "daylight_factor_pct", "daylight"),
+    "share_of_hours": Quantity("share_of_hours", "share_of_hours", "daylight"),
 }
+
+#: The finer reference of the daylight ladders: more bounces and divisions than any rung.
+DAYLIGHT_REFERENCE = {"daylight.radiance.ab": 8, "daylight.radiance.ad": 4096, "daylight.radiance.replicates": 4}
 
 
 @dataclass(frozen=True)
@@ -82,6 +89,10 @@ LADDERS = (
     Ladder("sunlight.timestep_min", (60.0, 15.0, 5.0, 2.0, 1.0), {"sunlight.method": "exact", "sunlight.tolerance_s": 0.001},
            ("hours",), extra={"sunlight.tolerance_s": 0.01, "sunlight.method": "sampled"}),
     Ladder("sunlight.tolerance_s", (60.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("hours",)),
+    # Radiance's ambient bounces and divisions against a run with more of both (Monte Carlo: the
+    # reference carries its own error estimate, which the error of a rung cannot go below)
+    Ladder("daylight.radiance.ab", (1, 2, 3, 5), DAYLIGHT_REFERENCE, ("daylight_factor", "share_of_hours")),
+    Ladder("daylight.radiance.ad", (128, 256, 512, 1024), DAYLIGHT_REFERENCE, ("daylight_factor", "share_of_hours")),
 )
 
 
@@ -128,8 +139,21 @@ class Runner:
         wall = time.perf_counter() - t
         if check == "view":
             return _view_values(res), wall, self.engine.rays_traced
+        if check == "daylight":
+            return _daylight_values(res), wall, 0
         return {"hours": (np.concatenate([x.hours for x in res]) * 3600.0,
                           np.concatenate([x.error_h for x in res]) * 3600.0)}, wall, self.engine.rays_traced
+
+
+def _daylight_values(results: list) -> dict:
+    """(values, error estimates) of D [%] and of the shares of hours [-] (every point and target),
+    concatenated over rooms; empty for the method a project does not use."""
+    cat = lambda xs: np.concatenate(xs) if xs else np.zeros(0)  # noqa: E731
+    df = [r.daylight_factor_pct for r in results if r.daylight_factor_pct is not None]
+    de = [r.daylight_factor_err_pct for r in results if r.daylight_factor_err_pct is not None]
+    sh = [v for r in results if r.share_of_hours for v in r.share_of_hours.values()]
+    se = [v for r in results if r.share_of_hours_err for v in r.share_of_hours_err.values()]
+    return {"daylight_factor": (cat(df), cat(de)), "share_of_hours": (cat(sh), cat(se))}
 
 
 def _view_values(results: list) -> dict:

@@ -18,6 +18,10 @@ choice                    values tried                                          
 ``view.wall_margin_m``    0.5, 1.0 m                                                        view
 ``view.mullions_block``   true (mullions and transoms cut the sight angle), false (the     sight angle
                           opening measured between its reveals)
+``daylight.aggregation``  hours_first, points_first (method 2 only)                          daylight
+``daylight.radiance.ab``  3, 7 ambient bounces                                               daylight
+``daylight.radiance.ad``  256, 1024 ambient divisions                                        daylight
+``daylight.sky_subdiv``   Reinhart MF 2 (577 patches; method 2 only)                         daylight
 ========================  ===============================================================  ============
 
 Choices that do not change what is traced (the date, the layer threshold, the eye heights) are
@@ -60,13 +64,19 @@ RANGES: dict[str, tuple] = {
     "view.grid_spacing_m": ("x2",),
     "view.wall_margin_m": (0.5, 1.0),
     "view.mullions_block": (True, False),
+    "daylight.aggregation": ("hours_first", "points_first"),
+    "daylight.radiance.ab": (3, 7),
+    "daylight.radiance.ad": (256, 1024),
+    "daylight.sky_subdivision": (2,),
 }
 #: How the tables and charts name each choice.
 LABELS = {"sunlight.date": "assessed date", "sunlight.point_p": "point P", "view.layer_threshold_sr": "layer threshold",
           "view.eye_heights_m": "eye heights", "view.distance_method": "distance method",
           "view.distance_statistic": "distance statistic", "view.grid_offset": "grid offset",
           "view.grid_spacing_m": "grid spacing", "view.wall_margin_m": "wall margin",
-          "view.mullions_block": "mullion reading"}
+          "view.mullions_block": "mullion reading", "daylight.aggregation": "aggregation order",
+          "daylight.radiance.ab": "ambient bounces", "daylight.radiance.ad": "ambient divisions",
+          "daylight.sky_subdivision": "sky subdivision"}
 #: P moves this far [m].
 P_SHIFT_M = 0.1
 
@@ -76,7 +86,7 @@ class Outcome:
     """One room and check under one choice value."""
 
     room: str
-    check: str  # "view" | "sunlight"
+    check: str  # "view" | "sunlight" | "daylight"
     choice: str  # a key of RANGES, or "default"
     value: str
     level: int
@@ -117,6 +127,35 @@ def view_outcome(res, settings, thresholds, layer_threshold_sr=None, eye_heights
         return 0, float("nan")
     r = dataclasses.replace(res, eye_heights=eyes, level=standard.view_level(e.level for e in eyes))
     return r.level, room_view_score(view_scores(r, thresholds, settings.area_fraction))
+
+
+def daylight_outcome(res) -> tuple[int, float]:
+    """Level and score of a daylight result (clause 5.1, :func:`~en17037cli.criteria.daylight.report.daylight_score`)."""
+    from en17037cli.criteria.daylight.report import daylight_score
+
+    return res.level, float(daylight_score(res, res.level)["value"])
+
+
+def daylight_variants(ds, ranges) -> list[tuple[str, object, object]]:
+    """(choice, value, settings) of each daylight choice to try: the aggregation order and the sky
+    subdivision for method 2 only; -ab and -ad for both."""
+    out = []
+    for key in ("daylight.aggregation", "daylight.radiance.ab", "daylight.radiance.ad", "daylight.sky_subdivision"):
+        if key in ("daylight.aggregation", "daylight.sky_subdivision") and ds.method != "climate_based":
+            continue
+        for value in ranges.get(key, ()):
+            if key.startswith("daylight.radiance."):
+                field = {"ab": "ab", "ad": "ad"}[key.rsplit(".", 1)[1]]
+                if getattr(ds.radiance, field) == value:
+                    continue
+                new = dataclasses.replace(ds, radiance=dataclasses.replace(ds.radiance, **{field: int(value)}))
+            else:
+                field = key.split(".", 1)[1]
+                if getattr(ds, field) == value:
+                    continue
+                new = dataclasses.replace(ds, **{field: value})
+            out.append((key, value, new))
+    return out
 
 
 def sun_outcome(hours: float, thresholds) -> tuple[int, float]:
@@ -231,6 +270,15 @@ def sensitivity(project_path: Path, out_dir: Path, overrides=(), log=print) -> d
                     for name, res in assess("view", proj, reuse=view if same_solid else None).items():
                         outcomes.append(Outcome(name, "view", key, _fmt(value), *view_outcome(res, proj.view, th)))
                     log(f"  {key} = {_fmt(value)}: {time.perf_counter() - t:.2f} s")
+        daylight = base.get("daylight", {})
+        for name, res in daylight.items():
+            outcomes.append(Outcome(name, "daylight", "default", "project", *daylight_outcome(res)))
+        if daylight:
+            for key, value, ds in daylight_variants(project.daylight, ranges):
+                t = time.perf_counter()
+                for name, res in assess("daylight", dataclasses.replace(project, daylight=ds)).items():
+                    outcomes.append(Outcome(name, "daylight", key, _fmt(value), *daylight_outcome(res)))
+                log(f"  {key} = {_fmt(value)}: {time.perf_counter() - t:.2f} s")
     total = time.perf_counter() - t0
     doc = summarise({room.name: room.spec.requirements for room in scene.rooms}, outcomes)
     doc["cost"] = {"base_s": round(t_base, 3), "total_s": round(total, 3), "ratio": round(total / max(t_base, 1e-9), 2)}

@@ -30,6 +30,7 @@ import numpy as np
 
 from en17037cli.criteria.sunlight.culling import ANGLE_SLACK, cull_triangles, spherical_extent, triangle_edges, window_pyramid
 from en17037cli.criteria.sunlight.solar_position import direction_vectors
+from en17037cli.geometry import turn
 
 #: Spacing of the SPA knots of the sun's path [s]: the Hermite interpolant's error is about
 #: (omega h)^4 / 384 = 1e-8 rad at 600 s (omega = 7.3e-5 rad/s), 1e-4 s of the sun's motion.
@@ -324,7 +325,7 @@ def _hour_angle_windows(spline: SunSpline, pole: np.ndarray, u: np.ndarray, v: n
         e2, hk = -e2, -hk
     hk = np.maximum.accumulate(hk)  # refraction's switch at the horizon may dent it; interp needs it rising
     hu, hv = np.arctan2(u @ e2, u @ e1), np.arctan2(v @ e2, v @ e1)
-    d = (hv - hu + np.pi) % (2 * np.pi) - np.pi
+    d = turn(hu, hv)
     lo_h, w = hu + np.minimum(d, 0.0), np.abs(d)
     ha = np.interp(a, knot_t, hk)
     k0 = np.ceil((ha - w - lo_h - 2 * OMEGA_BOUND * HOUR_ANGLE_SLACK_S) / (2 * np.pi))

@@ -30,6 +30,7 @@ import numpy as np
 
 from en17037cli.criteria.view.frames import RoomGeometry
 from en17037cli.criteria.view.gnomonic import MIN_PLANE_DISTANCE_M
+from en17037cli.geometry import turn
 from en17037cli.scene.model import INTERIOR, WINDOW, Scene
 
 TWO_PI = 2.0 * np.pi
@@ -102,7 +103,7 @@ def arcs(points: np.ndarray, a: np.ndarray, b: np.ndarray):
     """
     e1, e2 = a - points, b - points
     t1, t2 = np.arctan2(e1[:, 1], e1[:, 0]), np.arctan2(e2[:, 1], e2[:, 0])
-    delta = (t2 - t1 + np.pi) % TWO_PI - np.pi
+    delta = turn(t1, t2)  # exact for a short turn: an edge-on segment stays a (near-)empty interval
     start, end = np.where(delta >= 0, t1, t2) % TWO_PI, np.where(delta >= 0, t2, t1) % TWO_PI
     r = np.minimum(np.hypot(e1[:, 0], e1[:, 1]), np.hypot(e2[:, 0], e2[:, 1]))
     return np.where(start >= TWO_PI, 0.0, start), np.where(end >= TWO_PI, 0.0, end), r

@@ -26,6 +26,7 @@ from en17037cli.criteria.view.gnomonic import MIN_PLANE_DISTANCE_M
 from en17037cli.criteria.view.plan import cut_triangles
 from en17037cli.criteria.view.rays import BLOCKED, ViewRays
 from en17037cli.criteria.view.results import SightAngles
+from en17037cli.geometry import turn
 from en17037cli.project.settings import ViewSettings
 
 
@@ -50,7 +51,7 @@ def fan_intervals(rg: RoomGeometry, points: np.ndarray):
     front = np.einsum("ij,ij->i", rg.frame_array("origin")[tw[ki]] - points[pi], n) > MIN_PLANE_DISTANCE_M
     pi, e1, e2 = pi[front], e1[front], e2[front]
     t1, t2 = np.arctan2(e1[:, 1], e1[:, 0]), np.arctan2(e2[:, 1], e2[:, 0])
-    delta = (t2 - t1 + np.pi) % (2 * np.pi) - np.pi
+    delta = turn(t1, t2)
     start = np.where(delta >= 0, t1, t2) % (2 * np.pi)
     width = np.abs(delta)
     keep = width > 0

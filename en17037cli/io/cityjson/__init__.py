@@ -155,6 +155,7 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
     n_fallback: dict = {}
     n_skipped = 0
     unknown: dict = {}
+    by_lod: dict = {}  # (type, LoD read) -> objects, for validate's summary
     for di, oid, obj in objects:
         if oid in excluded:
             continue
@@ -191,6 +192,7 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
             n_fallback[label] = n_fallback.get(label, 0) + 1
         cls = obj.get("type")
         cls = cls if isinstance(cls, str) else "?"
+        by_lod[(cls, lod_label(chosen))] = by_lod.get((cls, lod_label(chosen)), 0) + 1
         if default_layer(cls, None, False)[1] is False:
             unknown[cls] = unknown.get(cls, 0) + 1
         b.start_object(oid, obj, cls, docs[di][0])
@@ -217,4 +219,7 @@ def _read(path: Path, options: ReadOptions) -> Mesh:
                      f"given layer landscape ({detail})")
 
     mesh_v, tris, part, parts = b.finish(options.near, notes, warnings)
-    return Mesh(mesh_v, tris, part, parts, warnings, notes, units="m", up_axis="z", site=site)
+    lods = ", ".join(f"{cls} LoD {lod}: {n}" for (cls, lod), n in sorted(by_lod.items()))
+    summary = (f"CityJSON, {counted(len(objects), 'object')}; with surfaces, by type and LoD read: {lods or 'none'}; "
+               f"{counted(len(tris), 'triangle')} kept")
+    return Mesh(mesh_v, tris, part, parts, warnings, notes, units="m", up_axis="z", site=site, summary=summary)

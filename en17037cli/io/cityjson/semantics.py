@@ -1,4 +1,7 @@
-"""What a CityObject means for the check: its default layer, the level of detail read, and exclusion.
+"""What a city object means for the check: its default layer, the level of detail read, and exclusion.
+
+One table for CityJSON and CityGML (the same data model: CityJSON types are CityGML classes);
+the rows marked (G) are CityGML names that CityJSON writes otherwise or not at all.
 
 Level of detail (``ReadOptions.lod``): ``"highest"`` takes each object's highest LoD; a given
 LoD (``"2.2"``, ``"1.2"``, ``"2"``...) takes it, or else the highest LoD below it (one note counts
@@ -21,9 +24,12 @@ override any of it (matching ``class``, ``surface``, ``id``, ``attr.*``).
 | `PlantCover` given as Solid, MultiSolid or CompositeSolid | landscape | |
 | `PlantCover` given as MultiSurface or CompositeSurface | ground | |
 | `TINRelief`, `LandUse`, `Road`, `Railway`, `TransportSquare`, `WaterBody`, `Waterway` | ground | |
+| (G) `ReliefFeature`, `RasterRelief`, `Track`, `Square`, `Intersection`, `Section` | ground | |
+| (G) `GenericOccupiedSpace`, `GenericUnoccupiedSpace` (3.0) | landscape | |
 | `BuildingRoom`, `BuildingStorey`, `BuildingUnit`, `BuildingFurniture` | ignore | inside a shell (1) |
 | `BridgeRoom`, `BridgeFurniture`, `TunnelHollowSpace`, `TunnelFurniture` | ignore | inside a shell (1) |
-| `CityObjectGroup` | ignore | groups objects that have their own geometry |
+| (G) `Room`, `IntBuildingInstallation`, `IntBridgeInstallation`, `IntTunnelInstallation`, `HollowSpace`, `Storey` | ignore | inside a shell (1) |
+| `CityObjectGroup`, (G) `GenericLogicalSpace` | ignore | groups objects that have their own geometry |
 | any other type (an Extension's `+Something`) | landscape | counted in a note |
 
 (1) Never seen from outside; as landscape, the checked building's rooms would fill the checked room.
@@ -50,14 +56,31 @@ _LANDSCAPE = frozenset((
     "Bridge", "BridgePart", "BridgeInstallation", "BridgeConstructiveElement", "BridgeConstructionElement",
     "Tunnel", "TunnelPart", "TunnelInstallation", "TunnelConstructiveElement",
     "CityFurniture", "GenericCityObject", "OtherConstruction", "SolitaryVegetationObject",
+    "GenericOccupiedSpace", "GenericUnoccupiedSpace",
 ))
-_GROUND = frozenset(("TINRelief", "LandUse", "Road", "Railway", "TransportSquare", "WaterBody", "Waterway"))
+_GROUND = frozenset(("TINRelief", "LandUse", "Road", "Railway", "TransportSquare", "WaterBody", "Waterway",
+                     "ReliefFeature", "RasterRelief", "Track", "Square", "Intersection", "Section"))
 _IGNORE = frozenset((
     "BuildingRoom", "BuildingStorey", "BuildingUnit", "BuildingFurniture", "BridgeRoom", "BridgeFurniture",
     "TunnelHollowSpace", "TunnelFurniture", "CityObjectGroup",
+    "Room", "IntBuildingInstallation", "IntBridgeInstallation", "IntTunnelInstallation", "HollowSpace", "Storey",
+    "GenericLogicalSpace",
 ))
 _IGNORED_SURFACES = frozenset(("ClosureSurface", "WaterClosureSurface", "InteriorWallSurface", "CeilingSurface", "FloorSurface"))
 _BUILDING = frozenset(("Building", "BuildingPart"))
+
+#: Every city object type of the table (CityJSON types and CityGML feature classes): what starts a
+#: new object when a CityGML document is walked
+CITY_OBJECT_TYPES = _LANDSCAPE | _GROUND | _IGNORE | {"PlantCover"}
+
+#: Semantic (thematic) surface types of CityJSON (§3.3) and CityGML 1.0-3.0 boundary surfaces:
+#: they label faces of their object, they are not objects of their own
+SURFACE_TYPES = frozenset((
+    "RoofSurface", "GroundSurface", "WallSurface", "ClosureSurface", "OuterCeilingSurface", "OuterFloorSurface",
+    "Window", "Door", "InteriorWallSurface", "CeilingSurface", "FloorSurface", "WaterSurface", "WaterGroundSurface",
+    "WaterClosureSurface", "TrafficArea", "AuxiliaryTrafficArea", "TransportationMarking", "TransportationHole",
+    "Marking", "HoleSurface", "GenericThematicSurface",
+))
 
 #: CityObject types whose parts :func:`~en17037cli.io.cityjson.footprint_overlap` considers: a building and what belongs to it
 BUILDING_CLASSES = ("Building", "BuildingPart", "BuildingInstallation", "BuildingConstructiveElement")

@@ -134,7 +134,7 @@ def _colour_bar(fig, box_px: tuple[int, int, int, int], norm, cmap_name, extend,
         fig.add_artist(Polygon([(x0, y0 + h), (x0 + w, y0 + h), (x0 + w / 2, y0 + h + tip)], facecolor=cmap(1.0),
                                edgecolor="black", linewidth=0.5, transform=px))
     fig.add_artist(Rectangle((x0, y0), w, h, fill=False, edgecolor="black", linewidth=0.5, transform=px))
-    unit = "°" if kind == "sight_angle" else " m"
+    unit = {"sight_angle": "°", "daylight_factor": " %", "share_of_hours": ""}.get(kind, " m")
     for name in ("minimum", "medium", "high"):
         v = float(thresholds[name])
         if norm.vmin <= v <= norm.vmax:
@@ -144,6 +144,8 @@ def _colour_bar(fig, box_px: tuple[int, int, int, int], norm, cmap_name, extend,
             fig.text(x0 + w + 6, y, f"{name} {_fmt_num(v)}{unit}", ha="left", va="center", fontsize=6.5, transform=px)
     lo_lab, hi_lab = (f"{_fmt_num(norm.vmin)}°", f"{_fmt_num(round(norm.vmax, 1))}°") if kind == "sight_angle" else \
         (f"≤ {_fmt_num(norm.vmin)} m", f"≥ {_fmt_num(round(norm.vmax))} m, unobstructed")
+    if kind in ("daylight_factor", "share_of_hours"):
+        lo_lab, hi_lab = f"{_fmt_num(norm.vmin)}{unit}", f"{_fmt_num(round(norm.vmax, 2))}{unit}"
     fig.text(x0 + w + 6, y0 - (tip if extend in ("min", "both") else 0), lo_lab, ha="left", va="center", fontsize=6,
              color="#404040", transform=px)
     fig.text(x0 + w + 6, y0 + h + (tip if extend in ("max", "both") else 0), hi_lab, ha="left", va="center", fontsize=6,

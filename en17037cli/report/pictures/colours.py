@@ -38,7 +38,7 @@ SUN_PATH_COLOUR = "#ff7f00"
 #: Sun-hours chart: the days' bars and the assessed day's (dark and hatched) bar.
 BAR_COLOUR, ASSESSED_COLOUR = "#b0b0b0", "#08306b"
 #: Continuous colour maps (monotone luminance).
-CMAP = {"sight_angle": "viridis", "distance": "cividis"}
+CMAP = {"sight_angle": "viridis", "distance": "cividis", "daylight_factor": "viridis", "share_of_hours": "cividis"}
 #: Distances below this are drawn in the lowest colour [m].
 DISTANCE_VMIN_M = 1.0
 
@@ -105,6 +105,11 @@ def _continuous_norm(kind: str, vals: np.ndarray, thresholds: dict):
     if kind == "sight_angle":
         vmax = max(1.25 * high, float(finite.max()) if finite.size else 0.0)
         return Normalize(0.0, vmax), CMAP[kind], "neither", "horizontal sight angle [°]"
+    if kind == "daylight_factor":
+        vmax = max(1.25 * high, float(finite.max()) if finite.size else 0.0)
+        return Normalize(0.0, vmax), CMAP[kind], "neither", "daylight factor [%]\n(marks: D_T of each level)"
+    if kind == "share_of_hours":
+        return Normalize(0.0, 1.0), CMAP[kind], "neither", "share of daylight hours\nreaching the target"
     vmax = max(2.0 * high, float(finite.max()) if finite.size else 0.0, 2.0 * DISTANCE_VMIN_M)
     return LogNorm(DISTANCE_VMIN_M, vmax), CMAP[kind], "both", "outside distance [m]\n(top: unobstructed)"
 

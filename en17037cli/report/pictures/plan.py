@@ -25,7 +25,8 @@ PLAN_SIZE_IN = (5.0, 4.0)
 PLAN_BOX_PX = (15, 50, 290, 300)
 COLOUR_BAR_PX = (330, 70, 14, 200)
 
-_KINDS = ("sight_angle", "distance", "layers", "level")
+_KINDS = ("sight_angle", "distance", "layers", "level", "daylight_factor", "share_of_hours")
+_CONTINUOUS = ("sight_angle", "distance", "daylight_factor", "share_of_hours")
 
 
 def _rot(angle_deg: float) -> np.ndarray:
@@ -160,7 +161,7 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     vals = np.asarray(values, dtype=float).reshape(-1)
     if len(vals) != len(pts):
         raise ValueError(f"values must have shape ({len(pts)},) like points_xy, not {vals.shape}")
-    if kind in ("sight_angle", "distance") and not thresholds:
+    if kind in _CONTINUOUS and not thresholds:
         raise ValueError(f"kind={kind!r} needs thresholds {{'minimum', 'medium', 'high'}}")
     near_m = None if near is None else np.asarray(near, dtype=bool).reshape(-1)
     floor_r = np.asarray(floor, dtype=float).reshape(-1, 2)
@@ -238,7 +239,7 @@ def _plan_colours(kind: str, vals: np.ndarray, thresholds: dict | None):
     """Face colours (n, 4) with NaN rows for missing values, legend entries, colour-bar spec."""
     n = len(vals)
     faces = np.full((n, 4), np.nan)
-    if kind in ("sight_angle", "distance"):
+    if kind in _CONTINUOUS:
         assert thresholds is not None
         norm, cmap_name, extend, label = _continuous_norm(kind, vals, thresholds)
         faces = continuous_colours(kind, vals, thresholds, all_values=vals)

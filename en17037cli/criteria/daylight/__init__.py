@@ -1,0 +1,145 @@
+"""EN 17037 clause 5.1, Daylight provision: the reference plane's daylight factor (method 1) or its
+hourly illuminance over the daylight hours (method 2), with Radiance through pyradiance.
+
+* the scene as Radiance geometry and the runs: :mod:`.radiance`; the CIE overcast sky and the sky
+  component by our own integral: :mod:`.sky`; the weather: :mod:`en17037cli.weather.epw`
+* method 1: :func:`.assess.daylight_factor_room`; method 2: :mod:`.climate`
+* per room: :mod:`.assess` into :mod:`.results`; report section: :mod:`.report`
+
+pyradiance is imported only when a project has a ``daylight`` section and the check runs.
+"""
+from __future__ import annotations
+
+import time
+
+from en17037cli.criteria.base import Context, Criterion
+from en17037cli.criteria.daylight.assess import daylight_factor_room, reference_plane
+from en17037cli.criteria.daylight.results import DaylightResult
+from en17037cli.errors import InputError, NotAssessable
+from en17037cli.project.settings import DaylightSettings, Project
+
+#: Horizontal illuminance of the overcast sky the daylight factors are computed under [lx]
+#: (any value: D is a ratio; 10 klx keeps Radiance's numbers near 1).
+SKY_LX = 10000.0
+
+
+class DaylightCriterion(Criterion):
+    name = "daylight"
+    title = "daylight provision (5.1)"
+
+    def settings(self, project: Project) -> DaylightSettings | None:
+        return project.daylight
+
+    def _settings(self, ctx: Context) -> DaylightSettings:
+        if ctx.project.daylight is None:
+            raise ValueError("the daylight criterion runs only on projects with a daylight section")
+        return ctx.project.daylight
+
+    def ray_groups(self, scene):
+        return []  # Radiance traces its own rays
+
+    def check_inputs(self, ctx: Context) -> dict[str, str]:
+        from en17037cli.criteria.daylight.radiance import binpath
+
+        binpath()  # the extra is installed, or an input error saying how
+        self.median(ctx)  # the weather file reads
+        out = {}
+        for room in ctx.scene.rooms:
+            if room.problem is None:
+                try:
+                    self.plan(ctx, room)
+                except NotAssessable as exc:
+                    out[room.name] = str(exc)
+        return out
+
+    def plan(self, ctx: Context, room):
+        plans = ctx.cache.setdefault("daylight_plans", {})
+        if room.name not in plans:
+            plans[room.name] = reference_plane(room, self._settings(ctx))
+        return plans[room.name]
+
+    def size(self, plan) -> int:
+        return len(plan)
+
+    def weather(self, ctx: Context):
+        s = self._settings(ctx)
+        if s.weather is None:
+            return None
+        if "daylight_weather" not in ctx.cache:
+            from en17037cli.weather.epw import read_epw
+
+            ctx.cache["daylight_weather"] = read_epw(s.weather, f"{ctx.project.path.name}: daylight.weather")
+        return ctx.cache["daylight_weather"]
+
+    def median(self, ctx: Context) -> tuple[float, str]:
+        """E_v,d,med [lx] and where it came from."""
+        s = self._settings(ctx)
+        if s.median_diffuse_lx is not None:
+            return s.median_diffuse_lx, "daylight.median_diffuse_lx"
+        w = self.weather(ctx)
+        if w is None:
+            raise InputError(f"{ctx.project.path.name}: daylight: give median_diffuse_lx or weather")
+        return w.median_diffuse_lx(), f"median diffuse horizontal illuminance of the 4380 daylight hours of {s.weather_display}"
+
+    def octree(self, ctx: Context, kind: str = "overcast"):
+        """The scene with its sky, compiled once per run (``overcast``, ``sky`` patches, ``black``)."""
+        key = f"daylight_octree_{kind}"
+        if key not in ctx.cache:
+            from en17037cli.criteria.daylight import radiance
+
+            s = self._settings(ctx)
+            refl = dict(s.reflectance)
+            t = time.perf_counter()
+            scene = radiance.scene_text(ctx.scene, refl, s.glazing_transmittance, black=kind == "black")
+            if kind == "overcast":
+                sky = radiance.overcast_sky_text(SKY_LX, refl["ground"])
+            else:
+                from en17037cli.criteria.daylight.climate import patch_sky_text
+
+                sky = patch_sky_text()
+            ctx.cache[key] = radiance.Octree(scene, sky)
+            ctx.cache.setdefault("daylight_build_s", 0.0)
+            ctx.cache["daylight_build_s"] += time.perf_counter() - t
+        return ctx.cache[key]
+
+    def assess(self, ctx: Context, room, plan, progress=None) -> DaylightResult:
+        s = self._settings(ctx)
+        median, source = self.median(ctx)
+        p = s.radiance
+        params = {"ab": p.ab, "ad": p.ad, "as": p.as_, "lw": p.lw, "replicates": p.replicates}
+        t = time.perf_counter()
+        if s.method == "daylight_factor":
+            from en17037cli.criteria.daylight.radiance import irradiance
+
+            e = irradiance(self.octree(ctx), plan, p.ab, p.ad, p.as_, p.lw, p.replicates)
+            res = daylight_factor_room(plan, e, SKY_LX, median, source, ctx.project.thresholds, params)
+        else:
+            from en17037cli.criteria.daylight.climate import climate_room
+
+            res = climate_room(self, ctx, plan, s, median, source, params)
+        res.radiance["time_s"] = time.perf_counter() - t
+        if progress:
+            progress(len(plan))
+        return res
+
+    def illustrate(self, ctx: Context, room, result: DaylightResult):
+        from en17037cli.criteria.view.pictures import room_plan
+
+        s = self._settings(ctx)
+        plan = room_plan(ctx.scene, room, _AsView(s.wall_margin_m, s.grid_spacing_m))
+        return plan
+
+    def level(self, result: DaylightResult) -> int:
+        return result.level
+
+    def report(self, ctx: Context, room, result: DaylightResult) -> dict:
+        from en17037cli.criteria.daylight.report import daylight_section
+
+        return daylight_section(ctx.scene, result, self.required(room), self._settings(ctx), ctx.project.thresholds)
+
+
+class _AsView:
+    """What :func:`~en17037cli.criteria.view.pictures.room_plan` reads of view settings, from the daylight grid's."""
+
+    def __init__(self, wall_margin_m: float, grid_spacing_m: float):
+        self.wall_margin_m, self.grid_spacing_m = wall_margin_m, grid_spacing_m

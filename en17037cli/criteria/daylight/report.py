@@ -1,0 +1,107 @@
+"""The daylight criterion's part of report.json: per room and per point of the reference plane."""
+from __future__ import annotations
+
+from en17037cli import standard
+from en17037cli.criteria.daylight.assess import targets
+from en17037cli.criteria.daylight.results import DaylightResult
+from en17037cli.project.settings import DaylightSettings
+from en17037cli.report.numbers import json_limit, json_number, json_scores, json_xyz
+from en17037cli.scene.model import Scene
+from en17037cli.standard import LEVELS
+
+#: How each figure is computed and what its error estimate means (repeated in the report), per method.
+DAYLIGHT_METHODS = {
+    "daylight_factor": (
+        "EN 17037 method 1: daylight factor D = E / E_sky on the reference plane under the CIE standard overcast sky "
+        "(gensky -c, ground below the horizon at daylight.reflectance.ground), by Radiance rtrace -I+ (no ambient cache, "
+        "uncorrelated sampling) with daylight.radiance -ab/-ad/-as/-lw, each point traced daylight.radiance.replicates "
+        "times independently; D_T = E_T / E_v,d,med, D_TM = E_TM / E_v,d,med; error of D = half-width of the 95 % "
+        "confidence interval of the replicates' mean (Monte Carlo noise; the bias of a finite -ab is what "
+        "'en17037 study convergence' measures); error of a share = share of the points whose D lies within its "
+        "error of the threshold"),
+    "climate_based": (
+        "EN 17037 method 2: hourly illuminance of the 4380 daylight hours (the half of the year with the highest "
+        "diffuse horizontal illuminance in the weather file) from daylight coefficients: Radiance rcontrib against a "
+        "Reinhart sky of daylight.sky_subdivision (with daylight.radiance -ab/-ad/-lw) times gendaymtx's sky without "
+        "the sun, plus the sun: sun coefficients (rcontrib -ab 0 to suns at the Reinhart daylight.sun_subdivision "
+        "patch centres) times gendaymtx -d, and its reflected part from the daylight coefficients less their direct "
+        "part (rcontrib -ab 1 in a black scene); shares by daylight.aggregation; error of a share = half-width of the "
+        "95 % confidence interval over the replicates of the daylight coefficients"),
+}
+
+
+def daylight_score(res: DaylightResult, level: int) -> dict:
+    """Score in [0, 3] (beyond the standard): the level plus, toward the next level, the smaller of
+    the two shares reached at it over the share needed (as :func:`standard.share_score`)."""
+    if level >= 3:
+        return json_scores(3.0)
+    nxt = LEVELS[level + 1]
+    frac = min(res.target_share[nxt] / standard.DAYLIGHT_SHARES["target"],
+               res.minimum_share[nxt] / standard.DAYLIGHT_SHARES["minimum_target"], 1.0)
+    return json_scores(min(3.0, level + frac))
+
+
+def daylight_section(scene: Scene, res: DaylightResult, required: str, settings: DaylightSettings,
+                     thresholds: standard.Thresholds) -> dict:
+    """The ``daylight`` section of a room in report.json (see ``schemas/report.schema.json``)."""
+    level = LEVELS[res.level]
+    et, etm = targets(thresholds)
+    pts = scene.to_world(res.points_local)
+    points = []
+    for i in range(len(pts)):  # formatting each point's record
+        p: dict = {"point": json_xyz(pts[i])}
+        if res.daylight_factor_pct is not None:
+            p["daylight_factor_pct"] = json_number(res.daylight_factor_pct[i], 4)
+            p["daylight_factor_error_pct"] = json_number(res.daylight_factor_err_pct[i], 4)
+        if res.share_of_hours is not None:
+            p["share_of_hours"] = {f"{lx:g}": json_number(v[i], 4) for lx, v in res.share_of_hours.items()}
+            p["share_of_hours_error"] = {f"{lx:g}": json_number(v[i], 4) for lx, v in res.share_of_hours_err.items()}
+        points.append(p)
+    by_level = {}
+    for name in LEVELS[1:]:
+        entry = {"target_lx": et[name], "minimum_target_lx": etm[name],
+                 "target_share": json_number(res.target_share[name], 4),
+                 "target_share_error": json_number(res.target_share_err[name], 4),
+                 "minimum_target_share": json_number(res.minimum_share[name], 4),
+                 "minimum_target_share_error": json_number(res.minimum_share_err[name], 4)}
+        if res.method == "daylight_factor":
+            entry |= {"target_daylight_factor_pct": json_number(100.0 * et[name] / res.median_diffuse_lx, 4),
+                      "minimum_target_daylight_factor_pct": json_number(100.0 * etm[name] / res.median_diffuse_lx, 4)}
+        by_level[name] = entry
+    limit = standard.daylight_limit(res.target_share, res.minimum_share, res.level, required)
+    df = res.daylight_factor_pct
+    rad = {k: v for k, v in res.radiance.items() if k != "time_s"}
+    out = {
+        "level": level,
+        "required": required,
+        "status": standard.status(level, required),
+        "method": res.method,
+        "median_diffuse_lx": json_number(res.median_diffuse_lx, 1),
+        "median_diffuse_source": res.median_source,
+        "limiting": json_limit(limit),
+        "score": daylight_score(res, res.level),
+        "near_threshold": res.near_threshold,
+        "levels": by_level,
+        "required_shares": dict(standard.DAYLIGHT_SHARES),
+        "error_estimates": {
+            "max_share_error": json_number(max([*res.target_share_err.values(), *res.minimum_share_err.values()]), 4),
+            "method": DAYLIGHT_METHODS[res.method],
+            "radiance": rad,
+        },
+        "points": points,
+    }
+    if df is not None and len(df):
+        out["error_estimates"]["max_daylight_factor_error_pct"] = json_number(float(res.daylight_factor_err_pct.max()), 4)
+        out["median_daylight_factor_pct"] = json_number(float(_median(df)), 4)
+    if res.method == "climate_based":
+        out["aggregation"] = res.aggregation
+        out["daylight_hours"] = res.hours
+        out["error_estimates"]["max_share_of_hours_error"] = json_number(
+            max((float(v.max()) for v in res.share_of_hours_err.values() if len(v)), default=0.0), 4)
+    return out
+
+
+def _median(x):
+    import numpy as np
+
+    return np.median(x)

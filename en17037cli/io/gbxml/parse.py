@@ -1,0 +1,193 @@
+"""The gbXML document as plain records: location, storeys, zones, spaces, surfaces and their openings.
+
+gbXML (https://www.gbxml.org, schema 0.37 to 7.03; element and attribute names are the same in
+all of them) is read with lxml's ``iterparse``: each ``Space``, ``Surface``, ``BuildingStorey``,
+``Zone`` and ``Location`` is turned into a record as it ends and cleared, so the file's
+schedules, constructions and results never sit in memory. Names are matched without their
+namespace (files without one read the same). Coordinates are ``PlanarGeometry/PolyLoop/
+CartesianPoint/Coordinate`` triples in the file's ``lengthUnit``, scaled to metres here.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from en17037cli.errors import InputError
+
+#: gbXML lengthUnitEnum -> metres
+LENGTH_UNITS = {"Kilometers": 1000.0, "Meters": 1.0, "Centimeters": 0.01, "Millimeters": 0.001, "Miles": 1609.344,
+                "Yards": 0.9144, "Feet": 0.3048, "Inches": 0.0254}
+
+
+def local(tag) -> str:
+    if not isinstance(tag, str):
+        return ""
+    return tag[tag.index("}") + 1:] if tag[:1] == "{" else tag
+
+
+def _child(el, name: str):
+    for c in el:
+        if local(c.tag) == name:
+            return c
+    return None
+
+
+def _text(el, name: str) -> str:
+    c = _child(el, name)
+    return (c.text or "").strip() if c is not None else ""
+
+
+def _loops(geom, scale: float) -> list[np.ndarray]:
+    """Every PolyLoop below ``geom`` as (k, 3) float64 [m] (a repeated closing point dropped)."""
+    out = []
+    for loop in geom.iter("{*}PolyLoop", "PolyLoop"):
+        pts = []
+        for cp in loop:
+            if local(cp.tag) != "CartesianPoint":
+                continue
+            xyz = [c.text for c in cp if local(c.tag) == "Coordinate"]
+            pts.append((xyz + ["0", "0", "0"])[:3])
+        try:
+            v = np.array(pts, dtype=np.float64).reshape(-1, 3) * scale
+        except ValueError:
+            raise InputError("a CartesianPoint Coordinate is not a number") from None
+        if len(v) > 3 and np.array_equal(v[0], v[-1]):
+            v = v[:-1]
+        out.append(v)
+    return out
+
+
+@dataclass
+class Opening:
+    id: str
+    kind: str  # openingType
+    name: str
+    loop: np.ndarray | None  # (k, 3) [m]
+
+
+@dataclass
+class Surface:
+    id: str
+    kind: str  # surfaceType
+    name: str
+    cad: str
+    spaces: tuple[str, ...]  # AdjacentSpaceId spaceIdRef, in file order
+    loop: np.ndarray | None
+    openings: list[Opening] = field(default_factory=list)
+
+
+@dataclass
+class SpaceRecord:
+    id: str
+    name: str
+    storey: str  # buildingStoreyIdRef
+    zone: str  # zoneIdRef
+    shell: list[np.ndarray]  # ShellGeometry ClosedShell loops [m]
+    planar: list[np.ndarray]  # the Space's own PlanarGeometry loops [m]
+
+
+@dataclass
+class Document:
+    version: str
+    unit: str
+    scale: float
+    latitude: float | None = None
+    longitude: float | None = None
+    elevation: float | None = None
+    azimuth: float | None = None  # CADModelAzimuth [deg]
+    spaces: list[SpaceRecord] = field(default_factory=list)
+    surfaces: list[Surface] = field(default_factory=list)
+    storeys: dict = field(default_factory=dict)
+    zones: dict = field(default_factory=dict)
+
+
+def _float(s: str) -> float | None:
+    try:
+        return float(s) if s else None
+    except ValueError:
+        return None
+
+
+def read_document(path: Path, etree) -> Document:
+    """Parse ``path`` into a :class:`Document` (InputError for malformed XML, not gbXML, no or an unknown lengthUnit)."""
+    doc = None
+    tags = ["{*}Space", "{*}Surface", "{*}Location", "{*}BuildingStorey", "{*}Zone",
+            "Space", "Surface", "Location", "BuildingStorey", "Zone"]
+    try:
+        for _, el in etree.iterparse(str(path), events=("end",), tag=tags, huge_tree=True):
+            if doc is None:
+                doc = _root(path, el.getroottree().getroot())
+            name = local(el.tag)
+            try:
+                if name == "Space" and el.getparent() is not None and local(el.getparent().tag) == "Building":
+                    doc.spaces.append(_space(el, doc.scale))
+                elif name == "Surface" and el.getparent() is not None and local(el.getparent().tag) == "Campus":
+                    doc.surfaces.append(_surface(el, doc.scale))
+                elif name == "Location":
+                    doc.latitude, doc.longitude = _float(_text(el, "Latitude")), _float(_text(el, "Longitude"))
+                    doc.elevation, doc.azimuth = _float(_text(el, "Elevation")), _float(_text(el, "CADModelAzimuth"))
+                elif name == "BuildingStorey":
+                    doc.storeys[el.get("id", "")] = _text(el, "Name") or el.get("id", "")
+                elif name == "Zone":
+                    doc.zones[el.get("id", "")] = _text(el, "Name") or el.get("id", "")
+                else:
+                    continue
+            except InputError as exc:
+                raise InputError(f"{path}:{el.sourceline}: {name} '{el.get('id', '?')}': {exc}; export the file again") from None
+            el.clear()
+    except etree.XMLSyntaxError as exc:
+        raise InputError(f"{path}:{exc.lineno or '?'}: not well-formed XML ({exc.msg}); the file is cut short or corrupt, "
+                         "export it again") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read model file: {exc.strerror or exc}") from None
+    if doc is None:
+        try:
+            root = etree.parse(str(path)).getroot()
+        except etree.XMLSyntaxError as exc:
+            raise InputError(f"{path}:{exc.lineno or '?'}: not well-formed XML ({exc.msg}); export it again") from None
+        doc = _root(path, root)
+    return doc
+
+
+def _root(path: Path, root) -> Document:
+    if local(root.tag) != "gbXML":
+        hint = " (a CityGML file: give it the ending .gml)" if local(root.tag) == "CityModel" else ""
+        raise InputError(f"{path}: XML but not gbXML (root element '{local(root.tag)}', expected gbXML){hint}; "
+                         "export the building model as gbXML")
+    unit = root.get("lengthUnit")
+    if not unit:
+        raise InputError(f"{path}: the gbXML root has no lengthUnit (it is required); export the file again, or add "
+                         "lengthUnit=\"Meters\" (or Feet, Inches, Millimeters...) to its <gbXML> element")
+    if unit not in LENGTH_UNITS:
+        raise InputError(f"{path}: lengthUnit '{unit}' is not a gbXML length unit ({', '.join(LENGTH_UNITS)}); "
+                         "export the file again")
+    return Document(version=root.get("version", "?"), unit=unit, scale=LENGTH_UNITS[unit])
+
+
+def _space(el, scale: float) -> SpaceRecord:
+    shell = []
+    sg = _child(el, "ShellGeometry")
+    if sg is not None:
+        shell = _loops(sg, scale)
+    pg = _child(el, "PlanarGeometry")
+    return SpaceRecord(id=el.get("id", ""), name=_text(el, "Name") or el.get("id", ""),
+                       storey=el.get("buildingStoreyIdRef", ""), zone=el.get("zoneIdRef", ""), shell=shell,
+                       planar=_loops(pg, scale) if pg is not None else [])
+
+
+def _surface(el, scale: float) -> Surface:
+    pg = _child(el, "PlanarGeometry")
+    loops = _loops(pg, scale) if pg is not None else []
+    openings = []
+    for o in el:
+        if local(o.tag) != "Opening":
+            continue
+        og = _child(o, "PlanarGeometry")
+        ol = _loops(og, scale) if og is not None else []
+        openings.append(Opening(id=o.get("id", ""), kind=o.get("openingType", ""), name=_text(o, "Name") or o.get("id", ""),
+                                loop=ol[0] if ol else None))
+    spaces = tuple(a.get("spaceIdRef", "") for a in el if local(a.tag) == "AdjacentSpaceId")
+    return Surface(id=el.get("id", ""), kind=el.get("surfaceType", ""), name=_text(el, "Name") or el.get("id", ""),
+                   cad=_text(el, "CADObjectId"), spaces=spaces, loop=loops[0] if loops else None, openings=openings)

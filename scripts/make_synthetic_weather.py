@@ -1,0 +1,19 @@
+"""Write the samples' synthetic EPW weather file (see en17037cli/samples/weather.py for the models).
+
+Usage: python scripts/make_synthetic_weather.py OUT.epw [--lat 52.0 --lon 4.36 --tz 1]
+The file is synthetic; give a real EPW of the site (daylight.weather) for a real assessment.
+"""
+from __future__ import annotations
+
+import argparse
+
+from en17037cli.samples.weather import synthetic_epw
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("out")
+    ap.add_argument("--lat", type=float, default=52.0)
+    ap.add_argument("--lon", type=float, default=4.36)
+    ap.add_argument("--tz", type=float, default=1.0)
+    a = ap.parse_args()
+    print(synthetic_epw(a.out, lat=a.lat, lon=a.lon, tz=a.tz))
