@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint bench install samples clean mutation
+.PHONY: demo test lint bench install samples clean mutation bim-corpus
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -39,6 +39,12 @@ mutation: $(STAMP)
 	  $(VENV)/bin/mutmut run --max-children $(MUTATION_JOBS) > mutation-run.log 2>&1; code=$$?; \
 	  echo "mutmut run: exit $$code, $$(( ($$(date +%s) - start) / 60 )) min on $(MUTATION_JOBS) jobs (log: mutation-run.log)"
 	$(PY) scripts/mutation_report.py
+
+# The README's table of real IFC exports (docs/bim.md): every file of ../shared/data/real-models
+# checked as a user would; BIM_CORPUS=<files or folders> for others.
+BIM_CORPUS ?= ../shared/data/real-models
+bim-corpus: $(STAMP)
+	$(PY) scripts/bim_corpus.py $(BIM_CORPUS) --out out/bim-corpus
 
 bench: $(STAMP) samples
 	$(PY) benchmarks/bench.py --out bench.json

@@ -301,11 +301,15 @@ def validate(project_file: Path, overrides, max_points, objects, as_json):
         for crit, rooms in pf.unassessable.items():
             if room.name in rooms:
                 click.echo(f"  {crit}: NOT ASSESSABLE: {rooms[room.name]}")
-    for name in scene.left_out:
-        click.echo(f"space '{name}': no window bounds it; left out of the check")
-    for w in scene.windows:
-        if w.name not in bounding:
-            click.echo(f"note: window '{w.name}' bounds no room of the project")
+    from en17037cli.scene.spaces import windows_in_no_room
+
+    for lo in scene.left_out:
+        click.echo(f"space '{lo.name}': not a room of the check: {lo.reason}"
+                   + (f" ({len(lo.windows)} window(s): NOT ASSESSED)" if lo.windows else ""))
+    for name, why in windows_in_no_room(scene):
+        click.echo(f"window '{name}': in no room: {why}")
+    for display, label, why in scene.windows_left_out:
+        click.echo(f"window {label} ({display}): not a window of the check: {why}")
     if project.dwellings is not None:
         for d in pf.dwellings:
             main = "" if d.main_rooms == d.rooms else f" (main: {', '.join(d.main_rooms)})"

@@ -55,7 +55,9 @@ class RoomResult:
 
     def level(self, criterion: str) -> str | None:
         r = self.assessed(criterion)
-        return None if r is None else standard.level_name(CRITERIA[criterion].level(r))
+        if r is None or CRITERIA[criterion].unassessable(r) is not None:
+            return None
+        return standard.level_name(CRITERIA[criterion].level(r))
 
     def required(self, criterion: str) -> str:
         return CRITERIA[criterion].required(self.room)
@@ -65,6 +67,8 @@ class RoomResult:
         r = self.results.get(criterion)
         if isinstance(r, Unassessed):
             return r.status
+        if r is not None and CRITERIA[criterion].unassessable(r) is not None:
+            return "not_assessable"
         level = self.level(criterion)
         return None if level is None else standard.status(level, self.required(criterion))
 
@@ -127,13 +131,24 @@ def assess_dwelling(d: Dwelling, rooms: dict[str, RoomResult], rule: str, thresh
     return DwellingResult(d, "pass" if ok else "fail", room, h, need, short)
 
 
-def overall_status(rooms: list[RoomResult], dwellings: list[DwellingResult]) -> str:
+def overall_status(rooms: list[RoomResult], dwellings: list[DwellingResult], required: tuple[str, ...] = (),
+                   spaces_left_out: int = 0) -> str:
     """``pass`` when every required level is met: view and daylight in every room, sunlight in every
     dwelling. A required criterion that did not assess a room (not assessed, not assessable) does
-    not meet its requirement."""
+    not meet its requirement. Never a pass on nothing: each criterion in ``required`` (the project
+    asks a level of it) must have assessed at least one room, and no space of the model with a
+    window may have been left out (``spaces_left_out``: a space the project picked that opens onto
+    a window but could not be made a room)."""
     ok = all(r.status("view") in (None, "pass") and r.status("daylight") in (None, "pass") for r in rooms)
     ok &= all(d.status in (None, "pass") for d in dwellings)
+    ok &= all(any(r.status(c) in ("pass", "fail") for r in rooms) for c in required)
+    ok &= spaces_left_out == 0
     return "pass" if ok else "fail"
+
+
+def required_criteria(project: Project) -> tuple[str, ...]:
+    """The criteria of which some room entry of the project asks a level."""
+    return tuple(c for c in CRITERIA if any(getattr(spec.requirements, c) != "none" for spec in project.rooms))
 
 
 def _unrun(project: Project, only: str | None):
@@ -289,7 +304,9 @@ class Session:
         dwellings = [assess_dwelling(d, by_name, project.requirements.sunlight_rooms, project.thresholds)
                      for d in self.checks.dwellings]
         rays = self.preflight_rays + sum(a.rays for a in assessed.values())
-        return RunResult(project=project, scene=self.scene, rooms=rooms, status=overall_status(rooms, dwellings),
+        left = sum(1 for lo in self.scene.left_out if lo.windows)
+        status = overall_status(rooms, dwellings, required_criteria(project), left)
+        return RunResult(project=project, scene=self.scene, rooms=rooms, status=status,
                          dwellings=dwellings, checks_run=chosen, rays_traced=rays, context=self.context,
                          warnings=self.checks.warnings, timer=timer or self.timer)
 

@@ -145,10 +145,32 @@ def layer_warnings(scene: Scene) -> list[str]:
                                           "check the layer rules"]
 
 
+def landscape_warnings(project: Project, scene: Scene) -> list[str]:
+    """A view check on a model without surroundings cannot judge the layers: say so before it runs."""
+    from en17037cli.criteria.view import no_landscape
+
+    why = no_landscape(scene) if project.view is not None else None
+    return [] if why is None else [f"view: every room NOT ASSESSABLE: {why}"]
+
+
+def space_warnings(scene: Scene) -> list[str]:
+    """The spaces with windows the check cannot assess (listed by name, with the reason), and a run
+    with no room at all: a model whose spaces are all left out is not a pass."""
+    left = [lo for lo in scene.left_out if lo.windows]
+    out = []
+    if left:
+        out.append(f"not assessed: {len(left)} space(s) with windows: " +
+                   "; ".join(f"'{lo.name}' ({len(lo.windows)} window(s)): {lo.reason}" for lo in left))
+    if not scene.rooms:
+        out.append("no room to assess: " + (f"every space the project picks is left out ({len(scene.left_out)}: "
+                                             f"{scene.left_out[0].reason}, ...)" if scene.left_out else "the project has no room"))
+    return out
+
+
 def preflight(ctx: Context, max_points: int = MAX_POINTS) -> Preflight:
     """Everything the run can find before its criteria: see the module docstring."""
     project, scene = ctx.project, ctx.scene
-    pf = Preflight(warnings=layer_warnings(scene) + scene.warnings)
+    pf = Preflight(warnings=layer_warnings(scene) + space_warnings(scene) + landscape_warnings(project, scene) + scene.warnings)
     pf.dwellings = group_dwellings(project.dwellings, scene.rooms, project.path.name)
     pf.points, pf.cells = check_budget(project, scene, max_points)
     for name, c in CRITERIA.items():

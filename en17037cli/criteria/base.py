@@ -83,6 +83,11 @@ class Criterion(ABC):
     def level(self, result) -> int:
         """Level index (see :data:`~en17037cli.standard.LEVELS`) a result reaches."""
 
+    def unassessable(self, result) -> str | None:
+        """Why a result the criterion computed still cannot give the room a level (a part of the
+        criterion the model cannot answer), or None: the room is then ``not_assessable``."""
+        return None
+
     def required(self, room: Room) -> str:
         """The level ``room`` must reach for this criterion."""
         return getattr(room.spec.requirements, self.name)

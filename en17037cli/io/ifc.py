@@ -13,9 +13,12 @@ of its faces, so the glass and the frame of an IfcWindow are separate parts:
 | `material` | the name of the surface style or material of those faces, where the file names one |
 | `surface` | `glazing` (transparent parts of windows, doors, curtain walls and plates) or `frame` |
 
-A piece is transparent when its surface style has a transparency of 0.5 or more, or, where the
-file gives no transparency, when its style or material is named like glass ("glass", "glazing",
-"glas", "verre", "vitrage"). Default layers (the project's rules win, matching any attribute):
+Which faces are glass is decided by the file's own semantics (:mod:`~en17037cli.io.ifc_glazing`:
+transparent styles, glass names, else the thin panes of an IfcWindow's geometry, the plates of a
+curtain wall). Each part also carries ``Part.host`` (the element its opening is cut in:
+IfcRelFillsElement -> IfcOpeningElement -> IfcRelVoidsElement; a plate's curtain wall) and
+``Part.assembly`` (IfcRelAggregates). Default layers (the project's rules win, matching any
+attribute):
 
 | IFC class | layer |
 |---|---|
@@ -23,58 +26,56 @@ file gives no transparency, when its style or material is named like glass ("gla
 | opaque parts of windows and doors (frames, mullions), `IfcWall`, `IfcWallStandardCase`, `IfcSlab`, `IfcRoof`, `IfcDoor`, `IfcColumn`, `IfcBeam`, `IfcMember`, `IfcPlate`, `IfcRailing`, `IfcStair`, `IfcStairFlight`, `IfcRamp`, `IfcCovering`, `IfcCurtainWall`, `IfcFooting`, `IfcChimney`, `IfcShadingDevice` | interior |
 | `IfcSite` | ground |
 | `IfcBuildingElementProxy`, `IfcGeographicElement` | landscape |
-| `IfcSpace`, `IfcOpeningElement`, `IfcAnnotation`, `IfcGrid`, `IfcVirtualElement`, furniture (`IfcFurnishingElement`, `IfcFurniture`), MEP (`IfcDistributionElement` and its subtypes: ducts, pipes, fittings, terminals...) | ignore (not tessellated) |
+| `IfcSpace`, `IfcOpeningElement`, `IfcSpatialZone`, `IfcAnnotation`, `IfcGrid`, `IfcVirtualElement`, furniture (`IfcFurnishingElement`, `IfcFurniture`), MEP (`IfcDistributionElement` and its subtypes: ducts, pipes, fittings, terminals...) | ignore (not tessellated) |
 | any other class | interior |
 
 All glazing parts of one IfcWindow (or door, curtain wall, plate) share ``Part.window`` = its
 GlobalId: its panes together make one window, named after the product. Glass modelled as thin
 solids keeps all its faces here; the scene keeps one surface of each pane.
 
-Spaces (IfcSpace) become :class:`~en17037cli.io.mesh.Space`: the footprint is the union of the
-downward faces at the bottom of its body, ``floor_z`` and ``top_z`` its lowest and highest
-points, ``windows`` the GlobalIds of the windows its IfcRelSpaceBoundary relations name, ``zones``
-the names of the IfcZone and IfcSpatialZone groups it belongs to.
-
-The site (:class:`~en17037cli.io.mesh.Site`): latitude and longitude from IfcSite RefLatitude
-and RefLongitude (compound degrees, minutes, seconds, millionths), elevation from RefElevation,
-true north from the TrueNorth of the model's geometric context (a direction (x, y) in the project
-frame: azimuth clockwise from +Y = atan2(x, y)). Where the file has an IfcMapConversion (IFC4 and
-later), every vertex and footprint is placed in the map: E = Eastings + Scale (x a - y b),
-N = Northings + Scale (x b + y a), H = OrthogonalHeight + z, with (a, b) the normalised
-(XAxisAbscissa, XAxisOrdinate); the CRS is the IfcProjectedCRS Name (``EPSG:nnnn``); true north
-turns with the map rotation (the map's grid north is then +Y; the meridian convergence between
-grid and true north, under 1 deg in most national grids, is not applied).
+Spaces: :mod:`~en17037cli.io.ifc_spaces`; site, north and map placement:
+:mod:`~en17037cli.io.ifc_site`; the STEP text's quirks: :mod:`~en17037cli.io.ifc_step`. Elements
+the geometry iterator cannot tessellate are named in a warning (class, Name, GlobalId and
+ifcopenshell's error). See docs/bim.md.
 
 References: buildingSMART IFC4 ADD2 TC1, IfcMapConversion (8.18.3.6), IfcSite (5.4.3.4),
 IfcGeometricRepresentationContext (8.18.3.4), IfcRelSpaceBoundary (6.1.3.20), IfcZone (5.4.3.5).
 """
 from __future__ import annotations
 
-import math
 import os
-import re
 from pathlib import Path
 
 import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.io import ReadOptions, register
-from en17037cli.io.mesh import Mesh, Part, Site, Space
+from en17037cli.io.ifc_glazing import (
+    GLASS_TRANSPARENCY,
+    GLAZED,
+    assemblies,
+    glass_by_style,
+    hosts,
+    is_default_material,
+    pane_faces,
+    principal_normal,
+)
+from en17037cli.io.ifc_site import apply_map, map_conversion, site_of
+from en17037cli.io.ifc_spaces import read_spaces, storey_of
+from en17037cli.io.ifc_step import check_all_read, repair_derived_markers
+from en17037cli.io.mesh import Mesh, Part
 
-#: Classes whose transparent parts are glazing (``window`` layer).
-GLAZED = ("IfcWindow", "IfcDoor", "IfcCurtainWall", "IfcPlate")
 #: Classes not tessellated at all.
 IGNORED = ("IfcSpace", "IfcOpeningElement", "IfcAnnotation", "IfcGrid", "IfcVirtualElement", "IfcFurnishingElement",
            "IfcDistributionElement")
 #: Class -> default layer (subclasses match too, checked with is_a); anything else is interior.
 DEFAULT_LAYER = {"IfcSite": "ground", "IfcBuildingElementProxy": "landscape", "IfcGeographicElement": "landscape"}
-#: A surface style at least this transparent is glass.
-GLASS_TRANSPARENCY = 0.5
-#: Style or material names that say glass, where the file gives no transparency.
-GLASS_WORDS = ("glass", "glazing", "glas", "verre", "vitrage")
+#: Elements without geometry whose ifcopenshell error is looked up (one shape each) and named.
+MAX_GEOMETRY_ERRORS = 20
 
 
-def _open(path: Path):
+def _open(path: Path) -> tuple[object, list[str]]:
+    """The ifcopenshell file of ``path`` and notes on what was repaired before reading it."""
     try:
         import ifcopenshell
     except ImportError:
@@ -93,93 +94,20 @@ def _open(path: Path):
     if f.schema not in ("IFC2X3", "IFC4", "IFC4X3", "IFC4X3_ADD2"):
         raise InputError(f"{path}: IFC schema {f.schema} is not read; export IFC2X3, IFC4 or IFC4X3")
     check_all_read(path, data, f)
-    return f
+    notes = []
+    fixed, count, entities = repair_derived_markers(data, f.schema)
+    if count:
+        import tempfile
 
-
-def check_all_read(path: Path, data: bytes, f) -> None:
-    """InputError naming the line where ifcopenshell stopped, when it read fewer instances than the
-    file defines: on a broken STEP line it may stop without an error, and a model read in part
-    would give a wrong answer, not a failed one."""
-    read = len(f.entity_names())
-    if read >= data.count(b"\n#"):  # cheap: no more instance lines than instances read
-        return
-    defined = [(int(m.group(1)), m.start()) for m in re.finditer(rb"(?m)^[ \t]*#(\d+)[ \t]*=", data)]
-    if read >= len(defined):
-        return
-    names = set(f.entity_names())
-    k = next(i for i, (sid, _) in enumerate(defined) if sid not in names)
-    sid, offset = defined[k]  # the first instance missing: reading stopped on its line
-    line = data.count(b"\n", 0, offset) + 1
-    raise InputError(f"{path}: broken IFC (STEP) data at line {line} (#{sid}): only {read} of {len(defined)} instances "
-                     "could be read; re-export the model or repair that line")
-
-
-def compound_degrees(v) -> float | None:
-    """Degrees of an IfcCompoundPlaneAngleMeasure (deg, min, sec[, millionths]), signs alike."""
-    if not v:
-        return None
-    parts = list(v) + [0] * (4 - len(v))
-    return float(parts[0] + parts[1] / 60 + parts[2] / 3600 + parts[3] / 3.6e9)
-
-
-def _map_conversion(f):
-    """(Eastings, Northings, height, a, b, scale, crs name) of the model context's IfcMapConversion, or None."""
-    if f.schema == "IFC2X3":
-        return None
-    convs = f.by_type("IfcMapConversion")
-    if not convs:
-        return None
-    c = convs[0]
-    a, b = (c.XAxisAbscissa if c.XAxisAbscissa is not None else 1.0), (c.XAxisOrdinate or 0.0)
-    r = math.hypot(a, b) or 1.0
-    crs = getattr(c.TargetCRS, "Name", None)
-    if crs and crs.upper().replace("EPSG::", "EPSG:").startswith("EPSG:"):
-        crs = "EPSG:" + crs.split(":")[-1].strip()
-    return (float(c.Eastings), float(c.Northings), float(c.OrthogonalHeight or 0.0), a / r, b / r,
-            float(c.Scale if c.Scale is not None else 1.0), crs)
-
-
-def _apply_map(xyz: np.ndarray, m) -> np.ndarray:
-    e, n, h, a, b, s, _ = m
-    x, y = xyz[:, 0], xyz[:, 1]
-    return np.column_stack([e + s * (x * a - y * b), n + s * (x * b + y * a), h + xyz[:, 2]])
-
-
-def _site(f, path: Path, m) -> Site | None:
-    lat = lon = elev = None
-    src = []
-    sites = f.by_type("IfcSite")
-    if sites:
-        s = sites[0]
-        lat, lon = compound_degrees(s.RefLatitude), compound_degrees(s.RefLongitude)
-        elev = float(s.RefElevation) if s.RefElevation is not None else None
-        if lat is not None:
-            src.append("latitude and longitude from IfcSite RefLatitude/RefLongitude")
-    north = None
-    for ctx in f.by_type("IfcGeometricRepresentationContext"):
-        if ctx.is_a() == "IfcGeometricRepresentationContext" and ctx.ContextType == "Model" and ctx.TrueNorth is not None:
-            x, y = ctx.TrueNorth.DirectionRatios[:2]
-            north = math.degrees(math.atan2(x, y)) % 360.0
-            src.append("true north from the model context's TrueNorth")
-            break
-    crs = None
-    if m is not None:
-        crs = m[6]
-        rot = math.degrees(math.atan2(m[4], m[3]))  # the project's x axis, counterclockwise from the map's
-        north = None if north is None else (north - rot) % 360.0
-        src.append(f"placed by IfcMapConversion in {crs or 'its map CRS'}")
-    if lat is None and north is None and crs is None:
-        return None
-    return Site(latitude=lat, longitude=lon, elevation_m=elev, true_north_deg=north, crs=crs,
-                source=f"{path.name}: " + "; ".join(src))
-
-
-def _glassy(material) -> bool:
-    t = getattr(material, "transparency", float("nan"))
-    if t == t:  # a number: the style says
-        return t >= GLASS_TRANSPARENCY
-    name = (getattr(material, "name", "") or "").lower()
-    return any(w in name for w in GLASS_WORDS)
+        with tempfile.TemporaryDirectory(prefix="en17037-ifc-") as tmp:  # ifcopenshell reads files: the repaired text
+            p = Path(tmp) / "repaired.ifc"
+            p.write_bytes(fixed)
+            f = ifcopenshell.open(str(p))
+        names = ", ".join(sorted(entities)[:4]) + (" ..." if len(entities) > 4 else "")
+        notes.append(f"{path.name}: {count} attribute(s) written '*' (derived) where the schema stores a value read as "
+                     f"unset ('$'), in {names}: not valid STEP (ISO 10303-21 12.2.2); without this ifcopenshell leaves "
+                     "those elements out")
+    return f, notes
 
 
 def default_layer(product, glazing: bool) -> str:
@@ -192,18 +120,22 @@ def default_layer(product, glazing: bool) -> str:
     return "interior"
 
 
-def _attrs(product, cache: dict) -> dict:
+def label(product) -> str:
+    """How messages name an element: ``IfcWindow 'Name' (GlobalId)``."""
+    name = getattr(product, "Name", None)
+    return f"{product.is_a()} '{name}' ({product.GlobalId})" if name else f"{product.is_a()} ({product.GlobalId})"
+
+
+def _attrs(product) -> dict:
     import ifcopenshell.util.element as ue
 
     out = {"class": product.is_a(), "name": getattr(product, "Name", None), "id": product.GlobalId}
     t = ue.get_type(product)
     if t is not None and t.Name:
         out["type"] = t.Name
-    c = ue.get_container(product)
-    while c is not None and not c.is_a("IfcBuildingStorey"):
-        c = ue.get_aggregate(c) if not c.is_a("IfcBuilding") else None
-    if c is not None and c.Name:
-        out["storey"] = c.Name
+    storey = storey_of(product)
+    if storey:
+        out["storey"] = storey
     return out
 
 
@@ -232,89 +164,178 @@ def _iterate(f, include=None, exclude=None):
             break
 
 
-def _spaces(f, m) -> list[Space]:
-    import shapely
+def without_geometry(f, read: set[int], excluded: set[str]) -> list[tuple[object, str]]:
+    """(product, why) of the products that have a representation but no shape from the geometry
+    iterator (which leaves them out silently): ifcopenshell's own error for each, where it gives one."""
+    import ifcopenshell.geom
 
-    spaces = f.by_type("IfcSpace")
-    if not spaces:
-        return []
     out = []
-    for product, v, faces, _, _ in _iterate(f, include=spaces):  # one shape per space
-        if m is not None:
-            v = _apply_map(v, m)
-        tri = v[faces]
-        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        norm = np.linalg.norm(n, axis=1)
-        z0 = float(v[:, 2].min())
-        down = (n[:, 2] < -0.99 * np.maximum(norm, 1e-30)) & np.all(np.abs(tri[..., 2] - z0) < 0.01, axis=1) & (norm > 0)
-        plan = shapely.union_all(shapely.make_valid(shapely.polygons(tri[down][..., :2]))) if down.any() else None
-        if plan is None or plan.is_empty:
+    for p in f.by_type("IfcProduct"):
+        if p.id() in read or p.GlobalId in excluded or not getattr(p, "Representation", None):
             continue
-        poly = max(getattr(plan, "geoms", [plan]), key=lambda g: g.area) if plan.geom_type != "Polygon" else plan
-        poly = shapely.orient_polygons(poly) if hasattr(shapely, "orient_polygons") else poly
-        windows = tuple(sorted(r.RelatedBuildingElement.GlobalId for r in (getattr(product, "BoundedBy", None) or ())
-                               if r.RelatedBuildingElement is not None and any(r.RelatedBuildingElement.is_a(c) for c in GLAZED)))
-        zones = tuple(sorted({r.RelatingGroup.Name for r in (getattr(product, "HasAssignments", None) or ())
-                              if r.is_a("IfcRelAssignsToGroup") and r.RelatingGroup.is_a() in ("IfcZone", "IfcSpatialZone")
-                              and r.RelatingGroup.Name}))
-        storey = _attrs(product, {}).get("storey", "")
-        agg = getattr(product, "Decomposes", None)
-        if not storey and agg:
-            parent = agg[0].RelatingObject
-            storey = parent.Name if parent.is_a("IfcBuildingStorey") else ""
-        out.append(Space(id=product.GlobalId, name=product.Name or "", long_name=getattr(product, "LongName", None) or "",
-                         storey=storey, footprint=np.asarray(poly.exterior.coords)[:-1], floor_z=z0,
-                         top_z=float(v[:, 2].max()), windows=windows, zones=zones,
-                         holes=tuple(np.asarray(r.coords)[:-1] for r in poly.interiors)))
-    # the geometry iterator hands shapes over in no fixed order: floors up, then by name, for a stable report
-    return sorted(out, key=lambda s: (round(s.floor_z, 3), s.name, s.long_name, s.id))
+        if any(p.is_a(c) for c in IGNORED) or (p.is_a("IfcSpatialStructureElement") and not p.is_a("IfcSite")) \
+                or (f.schema != "IFC2X3" and p.is_a("IfcSpatialZone")):
+            continue
+        why = "no body geometry"
+        if len(out) < MAX_GEOMETRY_ERRORS:
+            try:
+                shape = ifcopenshell.geom.create_shape(_settings(), p)
+                if len(shape.geometry.faces) == 0:
+                    why = "its body geometry has no faces"
+            except Exception as exc:  # ifcopenshell's error text, for the message
+                why = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+        out.append((p, why))
+    return out
+
+
+def _in_schema(f, cls: str) -> bool:
+    import ifcopenshell.ifcopenshell_wrapper as wrapper
+
+    try:
+        wrapper.schema_by_name(f.schema).declaration_by_name(cls)
+    except Exception:  # not an entity of this schema
+        return False
+    return True
+
+
+def host_normal(tri: np.ndarray, near: np.ndarray) -> np.ndarray | None:
+    """(3,) normal of the host's faces around a window (the wall's plane), from the host's
+    triangles ``tri`` (k, 3, 3) [m] whose bounding boxes reach within 0.5 m of the window's
+    bounding box ``near`` (2, 3) [m]; area-weighted, so the wall's faces outweigh its reveals."""
+    lo, hi = near[0] - 0.5, near[1] + 0.5
+    close = np.all((tri.min(axis=1) <= hi) & (tri.max(axis=1) >= lo), axis=1)
+    return principal_normal(tri[close]) if close.any() else None
+
+
+class _Builder:
+    """The parts of a model, product by product, and what the reader says about them."""
+
+    def __init__(self, f, path: Path):
+        self.path = path
+        self.host_of, self.assembly_of = hosts(f), assemblies(f)
+        self.members: dict[str, list[str]] = {}  # an assembly's pieces: a roof's slabs hold its skylights
+        for part, (whole, _) in self.assembly_of.items():
+            self.members.setdefault(whole, []).append(part)
+        self.verts: list = []
+        self.tris: list = []
+        self.pidx: list = []
+        self.parts: list[Part] = []
+        self.offset = 0
+        self.panes_from_geometry: list[str] = []
+        self.plates_as_glass: list[str] = []
+        self.left_out: list[tuple[str, str]] = []
+
+    def add(self, product, v, faces, mids, materials, by_id) -> None:
+        """One product's faces as parts: one per surface style, or glazing and frame where the
+        glass comes from its geometry (see :mod:`~en17037cli.io.ifc_glazing`)."""
+        base = _attrs(product)
+        gid = product.GlobalId
+        glazed_class = any(product.is_a(c) for c in GLAZED)
+        asm = self.assembly_of.get(gid)
+        host = self.host_of.get(gid, ())
+        key = gid
+        if asm is not None and asm[1] in ("IfcWindow", "IfcDoor"):  # a pane or member of a window assembly
+            key, host = asm[0], host or self.host_of.get(asm[0], ())
+        if not host and asm is not None and asm[1] == "IfcCurtainWall":
+            host = (asm[0],)  # a curtain wall's plate: the curtain wall holds it
+        keys = [int(k) for k in np.unique(mids)]
+        mats = {k: materials[k] if 0 <= k < len(materials) else None for k in keys}
+        says = {k: None if m is None or is_default_material(m, product) else glass_by_style(m) for k, m in mats.items()}
+        glass = np.zeros(len(faces), bool)
+        by_face = True
+        if glazed_class and any(says.values()):
+            glass = np.isin(mids, [k for k, s in says.items() if s])
+            by_face = False
+        elif product.is_a("IfcWindow"):
+            normal = None
+            hv = [by_id[x] for h in host for x in (h, *self.members.get(h, ())) if x in by_id]
+            if hv:
+                box = np.array([v.min(axis=0), v.max(axis=0)])
+                normal = host_normal(np.concatenate([hv_v[hv_f] for hv_v, hv_f in hv]), box)
+            glass = pane_faces(v, faces, principal_normal(v[faces]) if normal is None else normal)
+            if glass.any():
+                self.panes_from_geometry.append(label(product))
+            else:
+                self.left_out.append((label(product), "no transparent style, no material named like glass, and no thin "
+                                      "pane in its geometry: taken as opaque"))
+        elif product.is_a("IfcPlate") and asm is not None and asm[1] == "IfcCurtainWall" and all(s is None for s in says.values()):
+            glass[:] = True
+            self.plates_as_glass.append(label(product))
+        groups = [(glass, True), (~glass, False)] if by_face else [(mids == k, bool(says[k]) and glazed_class) for k in keys]
+        for sel, is_glass in groups:  # one part per surface style (or glass and the rest) of the product
+            if not sel.any():
+                continue
+            attrs = dict(base)
+            if glazed_class:
+                attrs["surface"] = "glazing" if is_glass else "frame"
+            if not by_face:
+                mat = mats[int(mids[sel][0])]
+                mname = getattr(mat, "name", None) if mat is not None else None
+                if mname and not mname.startswith(("IfcSurfaceStyle", "DefaultMaterial")) and not is_default_material(mat, product):
+                    attrs["material"] = mname
+            self.parts.append(Part(attrs, layer=default_layer(product, is_glass), window=key if is_glass else None,
+                                   host=host, assembly=None if asm is None else asm[0]))
+            self.tris.append(faces[sel] + self.offset)
+            self.pidx.append(np.full(int(sel.sum()), len(self.parts) - 1))
+        self.verts.append(v)
+        self.offset += len(v)
+
+    def messages(self, missing) -> tuple[list[str], list[str]]:
+        name = self.path.name
+        warnings, notes = [], []
+        if self.panes_from_geometry:
+            notes.append(f"{name}: {len(self.panes_from_geometry)} IfcWindow(s) with no transparent style or glass name: "
+                         "their panes taken from their geometry (the thin plates in the wall's plane): "
+                         f"{_listed(self.panes_from_geometry)}")
+        if self.plates_as_glass:
+            notes.append(f"{name}: {len(self.plates_as_glass)} IfcPlate(s) of curtain walls with no surface style of their "
+                         f"own taken as glass: {_listed(self.plates_as_glass)}")
+        if self.left_out:
+            warnings.append(f"{name}: {len(self.left_out)} IfcWindow(s) with no transparent part (no surface style with "
+                            f"transparency >= {GLASS_TRANSPARENCY}, no material named like glass, no thin pane in the "
+                            f"geometry), taken as opaque: {_listed([w for w, _ in self.left_out])}; a layer rule "
+                            "{id: '<GlobalId>', layer: window} makes one glass")
+        if missing:
+            warnings.append(f"{name}: {len(missing)} element(s) with no geometry from ifcopenshell, left out: "
+                            + "; ".join(f"{label(p)}: {why}" for p, why in missing[:MAX_GEOMETRY_ERRORS])
+                            + (" ..." if len(missing) > MAX_GEOMETRY_ERRORS else ""))
+        return warnings, notes
+
+
+def _listed(names: list[str], n: int = 5) -> str:
+    return ", ".join(names[:n]) + (f" and {len(names) - n} more" if len(names) > n else "")
 
 
 @register(".ifc")
 def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read an IFC file: products as parts by class and style, spaces, site (see the module docstring)."""
     options = options or ReadOptions()
-    f = _open(path)
-    m = _map_conversion(f)
+    f, notes = _open(path)
+    m = map_conversion(f)
+
+    def place(v: np.ndarray) -> np.ndarray:
+        return v if m is None else apply_map(v, m)
+
     excluded = set(options.exclude)
-    verts, tris, pidx, parts = [], [], [], []
-    offset = 0
-    cache: dict = {}
-    untransparent = []
-    for product, v, faces, mids, materials in _iterate(f, exclude=list(IGNORED)):  # one pass per product
+    shapes = []
+    ignored = [c for c in IGNORED + ("IfcSpatialZone",) if _in_schema(f, c)]
+    for product, v, faces, mids, materials in _iterate(f, exclude=ignored):  # one shape per product
         if product is None or product.GlobalId in excluded or len(faces) == 0:
             continue
-        if m is not None:
-            v = _apply_map(v, m)
-        base = _attrs(product, cache)
-        glazed_class = any(product.is_a(c) for c in GLAZED)
-        keys = np.unique(mids)
-        seen_glass = False
-        for k in keys:  # one part per surface style of the product
-            mat = materials[int(k)] if 0 <= int(k) < len(materials) else None
-            glass = glazed_class and mat is not None and _glassy(mat)
-            seen_glass |= glass
-            attrs = dict(base)
-            if glazed_class:
-                attrs["surface"] = "glazing" if glass else "frame"
-            mname = getattr(mat, "name", None) if mat is not None else None
-            if mname and not mname.startswith(("IfcSurfaceStyle", "DefaultMaterial")) and mname != base["class"]:
-                attrs["material"] = mname
-            parts.append(Part(attrs, layer=default_layer(product, glass), window=product.GlobalId if glass else None))
-            sel = mids == k
-            tris.append(faces[sel] + offset)
-            pidx.append(np.full(int(sel.sum()), len(parts) - 1))
-        if product.is_a("IfcWindow") and not seen_glass:
-            untransparent.append(product.Name or product.GlobalId)
-        verts.append(v)
-        offset += len(v)
-    if not tris:
+        shapes.append((product, place(v), faces, mids, materials))
+    if not shapes:
         raise InputError(f"{path}: no product with geometry in the IFC file; export the model with its 3D geometry")
-    warnings = []
-    if untransparent:
-        warnings.append(f"{path.name}: {len(untransparent)} IfcWindow(s) with no transparent part (no surface style with "
-                        f"transparency >= {GLASS_TRANSPARENCY}, no material named like glass), taken as opaque: "
-                        f"{', '.join(untransparent[:5])}")
-    notes = [f"{path.name}: placed by its IfcMapConversion ({m[6] or 'map CRS'})"] if m is not None else []
-    return Mesh(np.concatenate(verts), np.concatenate(tris), np.concatenate(pidx), parts, warnings, notes,
-                units="m", up_axis="z", site=_site(f, path, m), spaces=_spaces(f, m))
+    missing = without_geometry(f, {s[0].id() for s in shapes}, excluded)
+    by_id = {p.GlobalId: (v, faces) for p, v, faces, _, _ in shapes}
+    b = _Builder(f, path)
+    for shape in sorted(shapes, key=lambda s: s[0].id()):  # file order: the iterator's order depends on its threads
+        b.add(*shape, by_id)
+    warnings, more = b.messages(missing)
+    if m is not None:
+        notes.append(f"{path.name}: placed by its IfcMapConversion ({m[6] or 'map CRS'})")
+    spaces = f.by_type("IfcSpace")
+    space_shapes = ((p, v, fc) for p, v, fc, _, _ in _iterate(f, include=spaces)) if spaces else ()
+    unread = [(label(p), f"no geometry from ifcopenshell ({why})") for p, why in missing if any(p.is_a(c) for c in GLAZED)]
+    return Mesh(np.concatenate(b.verts), np.concatenate(b.tris), np.concatenate(b.pidx), b.parts, warnings, notes + more,
+                units="m", up_axis="z", site=site_of(f, path, m), spaces=read_spaces(f, space_shapes, place),
+                windows_left_out=b.left_out + unread)

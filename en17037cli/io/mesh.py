@@ -48,12 +48,20 @@ class Part:
         vegetation included (a layer rule with ``obstructs_sun: false`` lets the sun through).
     window : faces of parts sharing this key form one window (an IfcWindow's GlobalId: its
         panes together); None lets the scene group glazing by edge-connected coplanar faces.
+    host : ids (``attrs['id']``) of the objects whose opening this part fills: the wall an
+        IfcWindow fills (IfcRelFillsElement -> IfcOpeningElement -> IfcRelVoidsElement), the
+        curtain wall of a plate; their faces around the glazing give its reveal (point P). Empty
+        where the format does not say.
+    assembly : id of the object this part is a piece of (an IfcCurtainWall's plates and members,
+        an IfcRoof's slabs: IfcRelAggregates), or None; a host's pieces count as the host.
     """
 
     attrs: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
     layer: str | None = None
     obstructs_sun: bool = True
     window: str | None = None
+    host: tuple[str, ...] = ()
+    assembly: str | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "attrs", MappingProxyType({k: str(v) for k, v in dict(self.attrs).items() if v not in (None, "")}))
@@ -79,6 +87,11 @@ class Space:
         space boundaries (IfcRelSpaceBoundary; gbXML: the exterior glazings on its side); empty
         when the file has none
     zones : names of the zones (IfcZone, IfcSpatialZone, gbXML Zone) that group it
+    holes : inner rings of the floor outline, (k, 2) float [m] each
+    body : (k, 3, 3) float [m], the closed surface of the space's volume (triangles), where the
+        format gives it: windows are matched to spaces against it (a sloped ceiling, a roof
+        light's well); None: the footprint extruded from ``floor_z`` to ``top_z`` stands for it
+    problem : why the space has no usable floor ("" when it has one): reported, never dropped
     kind : what the file calls it ("IfcSpace", "gbXML Space"): a project's ``ifc_spaces`` /
         ``gbxml_spaces`` glob picks spaces of its kind
     """
@@ -93,6 +106,8 @@ class Space:
     windows: tuple[str, ...] = ()
     zones: tuple[str, ...] = ()
     holes: tuple[np.ndarray, ...] = ()
+    body: np.ndarray | None = None
+    problem: str = ""
     kind: str = "IfcSpace"
 
 
@@ -133,6 +148,8 @@ class Mesh:
     units, up_axis : "m" / "z" when the format fixes them, None when the project decides
     site : what the file says about its location, north and CRS, or None
     spaces : rooms the file defines (IfcSpace, gbXML Space), in the vertices' frame
+    windows_left_out : (label, why) of the windows the file defines that give no glazing (no
+        geometry, no transparent part): ``validate`` lists them
     summary : one line of what the reader read and left out, with counts (``validate`` prints it),
         or "" (the scene then counts triangles and parts)
     openings_drawn : the format draws windows on top of their walls, in their plane (DXF): the
@@ -149,6 +166,7 @@ class Mesh:
     up_axis: str | None = None
     site: Site | None = None
     spaces: list[Space] = field(default_factory=list)
+    windows_left_out: list[tuple[str, str]] = field(default_factory=list)
     summary: str = ""
     openings_drawn: bool = False
 

@@ -41,7 +41,14 @@ def summary(result: RunResult) -> dict:
     daylight = [r.status("daylight") for r in result.rooms if r.status("daylight") is not None]
     if daylight:
         out |= {"rooms_daylight_required": len(daylight), "rooms_daylight_pass": daylight.count("pass")}
+    if result.scene.spaces:  # rooms from a model's spaces: the ones with windows that could not be assessed
+        out["spaces_with_windows_not_assessed"] = sum(1 for lo in result.scene.left_out if lo.windows)
     return out
+
+
+def spaces_entry(scene) -> dict:
+    """The model's spaces the project picked that are not rooms of the check, and why (models with spaces only)."""
+    return {"spaces_left_out": [{"name": lo.name, "reason": lo.reason, "windows": list(lo.windows)} for lo in scene.left_out]}
 
 
 def build_report(result: RunResult) -> dict:
@@ -93,6 +100,7 @@ def build_report(result: RunResult) -> dict:
         "summary": summary(result),
         "dwellings": [dwelling_entry(d, project.requirements.sunlight_rooms) for d in result.dwellings],
         "rooms": rooms,
+        **(spaces_entry(scene) if scene.spaces else {}),
         "warnings": list(result.warnings),
         "notes": notes,
         "rays_traced": int(result.rays_traced),

@@ -66,7 +66,8 @@ def build_scene(project: Project) -> Scene:
     g = load_geometry(project.model, where)
     win_mask = g.layer == WINDOW
     if not np.any(win_mask):
-        raise InputError(f"{where}: model.files: no face is on the 'window' layer; assign the glazing to layer: window")
+        unread = "".join(f"; {label} ({display}): {why}" for display, label, why in g.windows_left_out[:3])
+        raise InputError(f"{where}: model.files: no face is on the 'window' layer; assign the glazing to layer: window{unread}")
     # Local origin: centre of the windows' bounding box, float64 (see trimesh/ray/ray_pyembree.py).
     wv = g.vertices[g.triangles[win_mask]].reshape(-1, 3)
     origin = 0.5 * (wv.min(axis=0) + wv.max(axis=0))
@@ -81,9 +82,10 @@ def build_scene(project: Project) -> Scene:
     if north_src:
         resolved["model.true_north_deg"] = north_src
     scene = Scene(vertices=local, triangles=g.triangles, layer=g.layer, obstructs_sun=g.obstructs_sun, parts=g.parts,
-                  part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings], file_hashes=g.file_hashes, sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read,
+                  part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings], file_hashes=g.file_hashes,
+                  sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read, windows_left_out=g.windows_left_out,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
-    check_glazing_over_opaque(local, g.triangles, g.layer, windows, scene.part_label, g.part, where)
+    scene.warnings.extend(check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where))
     for spec in project.rooms:
         if spec.ifc_spaces is not None or spec.gbxml_spaces is not None:
             scene.rooms.extend(rooms_from_spaces(scene, spec, f"{where}: rooms[{spec.index}]"))

@@ -223,8 +223,9 @@ def placed_space(space: Space, spec: ModelFile) -> Space:
         return space
     move = lambda xy: transformed(np.column_stack([xy, np.zeros(len(xy))]), t)[:, :2]  # noqa: E731
     dz = float(t.translate_m[2])
+    body = None if space.body is None else transformed(space.body.reshape(-1, 3), t).reshape(space.body.shape)
     return replace(space, footprint=move(space.footprint), holes=tuple(move(h) for h in space.holes),
-                   floor_z=space.floor_z + dz, top_z=space.top_z + dz)
+                   floor_z=space.floor_z + dz, top_z=space.top_z + dz, body=body)
 
 
 def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> Geometry:
@@ -261,7 +262,8 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
                         for f in files if f.mesh.site is not None],
                  spaces=[(f.spec.display, placed_space(sp, f.spec)) for f in files for sp in f.mesh.spaces],
                  optics=np.concatenate(all_o) if any(f.part_optics is not None for f in files) else None,
-                 read=[(f.spec.display, read_summary(f.mesh)) for f in files])
+                 read=[(f.spec.display, read_summary(f.mesh)) for f in files],
+                 windows_left_out=[(f.spec.display, *w) for f in files for w in f.mesh.windows_left_out])
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
                          "degenerate, NaN or infinite (zero area); re-export the glazing")

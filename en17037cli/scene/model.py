@@ -40,6 +40,7 @@ class Window:
     normal: np.ndarray
     area_m2: float
     key: str | None = None  # the product the window belongs to (an IfcWindow's GlobalId), where the file says
+    host: tuple[str, ...] = ()  # ids of the objects its opening is cut in (the wall), where the file says (Part.host)
 
     @property
     def centroid(self) -> np.ndarray:
@@ -59,7 +60,7 @@ class Window:
 
     def facing(self, normal: np.ndarray) -> Window:
         """The same window with ``normal`` as its outward normal."""
-        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key)
+        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key, self.host)
 
 
 @dataclass
@@ -88,6 +89,19 @@ class Room:
     storey: str = ""  # the IFC building storey of the room's space
 
 
+@dataclass(frozen=True)
+class LeftOut:
+    """A space of the model the project picked that is not a room of the check, and why.
+
+    windows : names of the windows that open into it (by geometry or by the model's space
+        boundaries): a space with windows left out is not assessed, and the run cannot pass
+    """
+
+    name: str
+    reason: str
+    windows: tuple[str, ...] = ()
+
+
 @dataclass
 class Geometry:
     """Faces with their layers and parts, and what the files say of the site and their spaces.
@@ -99,6 +113,7 @@ class Geometry:
     spaces : (file, Space) of files that define rooms (IfcSpace), placed like their file's faces
     optics : (m, 2) float visible reflectance and transmittance a layer rule gives each face (NaN
         where none does: the daylight criterion's defaults apply), or None when no rule gives any
+    windows_left_out : (file, window label, why) of windows the files define that give no glazing
     """
 
     vertices: np.ndarray
@@ -114,6 +129,8 @@ class Geometry:
     spaces: list = field(default_factory=list)
     optics: np.ndarray | None = None  # (m, 2) reflectance, transmittance per face from the layer rules (NaN: default)
     read: list = field(default_factory=list)  # (file, one line of what its reader read and left out), for validate
+    #: (file, window label, why) of windows the files define that give no glazing (Mesh.windows_left_out)
+    windows_left_out: list = field(default_factory=list)
 
 
 @dataclass(kw_only=True)
@@ -131,7 +148,10 @@ class Scene(Geometry):
     true_north_deg: float = 0.0
     location: Location | None = None
     resolved: dict = field(default_factory=dict)
-    left_out: list[str] = field(default_factory=list)  # spaces the project picked that no window bounds
+    left_out: list[LeftOut] = field(default_factory=list)  # spaces the project picked that are not rooms, and why
+    #: what the model's spaces and windows are to each other (see scene/spaces.py): None before rooms are made
+    space_windows: object = None
+    cache: dict = field(default_factory=dict, repr=False, compare=False)  # lookups built once per scene
     _boxes: tuple = field(default=(None,), repr=False, compare=False)  # cache of window_boxes
 
 

@@ -145,10 +145,11 @@ def _globbed(window: Window, globs) -> str | None:
     return next((g for g in globs if fnmatch.fnmatchcase(window.name, g)), None)
 
 
-def make_room(scene: Scene, spec: RoomSpec, where: str, keys: set[str] | None = None) -> Room:
+def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Window, str]] | None = None) -> Room:
     """The :class:`Room` of ``spec``: its floor, ceiling and the windows that bound it, each
-    window's normal turned away from the room. ``keys``: the windows the model itself says bound
-    the room (IFC space boundaries: GlobalIds), which replace the geometric rule."""
+    window's normal turned away from the room. ``chosen``: the windows (outward normals set) and
+    why each is the room's, where the caller matched them (rooms from a model's spaces:
+    :func:`~en17037cli.scene.spaces.match_windows`), in place of the geometric rule."""
     import shapely
 
     floor_z = spec.floor_z - scene.origin[2]
@@ -179,15 +180,13 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, keys: set[str] | None = 
         ceiling_z, ceiling_source = derive_ceiling(scene, poly, floor_z)
     windows, reasons = [], {}
     near = windows_near(scene, poly, floor_z, ceiling_z, spec.window_margin_m)
+    if chosen is not None:  # matched by the caller: no geometric rule here
+        windows, reasons, near = [w for w, _ in chosen], {w.name: why for w, why in chosen}, np.zeros(len(near), bool)
     for w, close in zip(scene.windows, near):  # one test per window of the model near the room
         glob = _globbed(w, spec.windows) if spec.windows is not None else "*"
-        if glob is None or (keys is not None and w.key not in keys) or (not close and spec.windows is None):
+        if glob is None or (not close and spec.windows is None) or chosen is not None:
             continue  # a window far from the room cannot bound it; a named one gets its reason below
         b = bounds_room(w, poly, floor_z, ceiling_z, spec.window_margin_m, scene.origin[2])
-        if keys is not None:  # the file's own space boundaries decide; the geometry only orients
-            windows.append(w.facing(b.normal))
-            reasons[w.name] = "named by the model's space boundaries (IfcRelSpaceBoundary)"
-            continue
         if not b.bounds:
             if spec.windows is None:
                 continue

@@ -8,6 +8,7 @@ from en17037cli.errors import NotAssessable
 from en17037cli.geometry import window_axes
 from en17037cli.project.settings import SunSettings
 from en17037cli.raytrace import RayEngine
+from en17037cli.scene.hosts import reveal_depth_from_host
 from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene, Window
 
 #: Start of the reveal search, outside the glazing plane [m], and the lateral steps beyond a jamb of
@@ -15,6 +16,9 @@ from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene, Window
 #: window frame up to 23 cm wide (BIM windows: the glass sits in a frame, the frame in the opening).
 REVEAL_PROBE_OUTSIDE_M = 0.01
 REVEAL_PROBE_BEYOND_JAMB_M = (0.02, 0.12, 0.25)
+#: Glazing whose normal's vertical component is at least this is roof glazing (tilted more than
+#: 30 degrees from vertical): where A.3's height falls outside it, P is its centre.
+ROOF_GLAZING_MIN_NZ = 0.5
 
 
 def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.ndarray, axis: np.ndarray, half_width: float, max_depth: float) -> float:
@@ -61,13 +65,21 @@ def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.
 def point_p_height(room: Room, window: Window) -> float:
     """Height of point P [m, local]: max(floor + 1.2 m, sill + 0.3 m) (EN 17037 Annex A.3).
 
+    Roof glazing (a roof light, a skylight: :data:`ROOF_GLAZING_MIN_NZ`) where that height falls
+    outside it: the height of its centre. A.3 places P by heights above floor and sill, which a
+    horizontal opening does not have; this tool takes its centre on the room-side face of the
+    opening (a choice, documented in docs/bim.md).
+
     Raises
     ------
     NotAssessable
-        Where that height lies above the window head (a small or high window): the rule has no
-        point P in the opening.
+        Where that height lies above the head of a wall window (a small or high window): the rule
+        has no point P in the opening.
     """
     z_p = max(room.floor_z + standard.SUN_POINT_MIN_ABOVE_FLOOR_M, window.sill_z + standard.SUN_POINT_MIN_ABOVE_SILL_M)
+    normal = getattr(window, "normal", None)  # stand-ins in tests may have none: a wall window
+    if z_p > window.head_z + 1e-9 and normal is not None and abs(normal[2]) >= ROOF_GLAZING_MIN_NZ:
+        return float(window.centroid[2])
     if z_p > window.head_z + 1e-9:
         raise NotAssessable(
             f"window '{window.name}': point P at max(floor + 1.2 m, sill + 0.3 m) = {z_p - room.floor_z:.3f} m above the "
@@ -78,8 +90,11 @@ def point_p_height(room: Room, window: Window) -> float:
 def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, settings: SunSettings) -> tuple[np.ndarray, float, list]:
     """Point P of a window (local frame) by EN 17037 Annex A.3, its reveal depth [m] and notes.
 
-    On the room-side plane of the opening (see :func:`reveal_depth`), at the horizontal centre of
-    the window, at height :func:`point_p_height`.
+    On the room-side plane of the opening, at the horizontal centre of the window, at height
+    :func:`point_p_height`. Where the model says which element the opening is cut in (the host
+    wall: ``Window.host``), that plane is the host's face behind the glazing
+    (:func:`~en17037cli.scene.hosts.reveal_depth_from_host`), and nothing else in the room moves
+    P; otherwise it is probed (:func:`reveal_depth`).
     """
     n = window.normal
     a, up = window_axes(n)
@@ -92,7 +107,9 @@ def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, setting
         q = centre + ((z_p - centre[2]) / up[2]) * up
     else:
         q = centre
-    depth = reveal_depth(engine, scene, q, n, a, 0.5 * (s.max() - s.min()), settings.max_reveal_depth_m)
+    depth = reveal_depth_from_host(scene, window, q, settings.max_reveal_depth_m)
+    if depth is None:
+        depth = reveal_depth(engine, scene, q, n, a, 0.5 * (s.max() - s.min()), settings.max_reveal_depth_m)
     notes = []
     if depth < GLAZING_OFFSET_M:  # no reveal, or only the wall's own plane found again through round-off
         depth = 0.0

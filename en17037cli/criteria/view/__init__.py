@@ -16,7 +16,32 @@ from en17037cli.criteria.view.results import ViewResult
 from en17037cli.criteria.view.viewpoints import viewpoints
 from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Project, ViewSettings
-from en17037cli.scene.model import room_window_group
+from en17037cli.scene.model import LANDSCAPE, Scene, room_window_group
+
+
+def no_landscape(scene: Scene) -> str | None:
+    """Why the view layers cannot be judged on ``scene``, or None: a model with no face on the
+    ``landscape`` layer (a building exported without its surroundings) shows no landscape from any
+    window, so every room's layers would read 'none' (EN 17037 Table A.5 needs the landscape layer
+    for every level) whatever the design. Not a failure of the design: not assessable."""
+    if (scene.layer == LANDSCAPE).any():
+        return None
+    return ("the view layers cannot be assessed: the model has no landscape (no face on the 'landscape' layer: no "
+            "neighbouring buildings, trees or terrain), and EN 17037 Table A.5 needs the landscape layer for every level; "
+            "add the surroundings as another model file (a CityJSON tile, an OBJ of the neighbours) or put objects on "
+            "'landscape' with a layer rule")
+
+
+def layers_aside(result: ViewResult) -> str:
+    """The room's levels of sight angle and outside distance (the lowest over eye heights), for a
+    view whose layers cannot be judged."""
+    from en17037cli.standard import LEVELS
+
+    out = []
+    for crit, label in (("horizontal_sight_angle", "horizontal sight angle"), ("outside_distance", "outside distance")):
+        levels = [e.level_by_criterion[crit] for e in result.eye_heights if crit in e.level_by_criterion]
+        out.append(f"{label} {LEVELS[min(levels)] if levels else 'none'}")
+    return ", ".join(out)
 
 
 class ViewCriterion(Criterion):
@@ -58,8 +83,15 @@ class ViewCriterion(Criterion):
         if "view_rays" not in ctx.cache:
             ctx.cache["view_rays"] = ViewRays(ctx.engine, ctx.scene)
         reuse = ctx.cache.get("view_reuse", {}).get(room.name)  # set by the sensitivity study only
-        return assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress,
-                           reuse)
+        result = assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress,
+                             reuse)
+        why = no_landscape(ctx.scene)
+        if why is not None:
+            result.layers_unassessable = f"{why}; without the layers: {layers_aside(result)}"
+        return result
+
+    def unassessable(self, result: ViewResult) -> str | None:
+        return result.layers_unassessable
 
     def illustrate(self, ctx: Context, room, result: ViewResult):
         """The room in plan for the maps (:mod:`.pictures`); the values are in ``result``."""

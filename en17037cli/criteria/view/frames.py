@@ -105,6 +105,43 @@ class WindowFrame:
         return q[order], t[order]
 
 
+#: A window of more triangles than this whose outline is convex is sampled on a strip triangulation.
+STRIP_MIN_TRIANGLES = 8
+
+
+def convex_strip(poly) -> np.ndarray | None:
+    """(k, 3, 2) [m]: a convex polygon's triangles as a strip across its height (each between two
+    neighbouring vertex heights, zigzag between its left and right chains), or None where the
+    polygon is not convex or has holes. A tessellated round pane comes as a fan from its centre
+    whose long triangles each overlap many sampling cells; a strip's overlap few."""
+    import shapely
+
+    if poly.geom_type != "Polygon" or poly.interiors or poly.area <= 0 or poly.convex_hull.area > poly.area * (1 + 1e-9):
+        return None
+    ring = np.asarray(shapely.orient_polygons(poly).exterior.coords)[:-1]
+    lo, hi = int(np.argmin(ring[:, 1])), int(np.argmax(ring[:, 1]))
+    n = len(ring)
+    right = ring[[(lo + k) % n for k in range((hi - lo) % n + 1)]]  # counterclockwise: up the right side
+    left = ring[[(lo - k) % n for k in range((lo - hi) % n + 1)]]  # clockwise: up the left side
+    out, i, j = [], 0, 0
+    while i < len(left) - 1 or j < len(right) - 1:  # one triangle per vertex passed
+        if j < len(right) - 1 and (i == len(left) - 1 or right[j + 1, 1] <= left[i + 1, 1]):
+            out.append((left[i], right[j], right[j + 1]))
+            j += 1
+        else:
+            out.append((left[i], right[j], left[i + 1]))
+            i += 1
+    tri = np.array(out)
+    keep = np.abs(_area2(tri)) > 0
+    return tri[keep] if keep.any() else None
+
+
+def _area2(tri: np.ndarray) -> np.ndarray:
+    """Twice the signed areas of triangles (k, 3, 2)."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
 def window_frame(window, index: int) -> WindowFrame:
     """The :class:`WindowFrame` of a :class:`~en17037cli.scene.model.Window` (triangles projected on its mean plane)."""
     import shapely
@@ -125,6 +162,11 @@ def window_frame(window, index: int) -> WindowFrame:
     u = np.cos(phi) * a + np.sin(phi) * up
     v = -np.sin(phi) * a + np.cos(phi) * up
     tri2 = np.stack([rel @ u, rel @ v], axis=-1)
+    if len(tri2) > STRIP_MIN_TRIANGLES:  # a finely tessellated round or arched pane: thin triangles, few overlaps per cell
+        import shapely.affinity
+
+        strip = convex_strip(shapely.affinity.rotate(poly, -phi, origin=(0, 0), use_radians=True))
+        tri2 = tri2 if strip is None else strip
     xmin, xmax = float(tri2[..., 0].min()), float(tri2[..., 0].max())
     ymin, ymax = float(tri2[..., 1].min()), float(tri2[..., 1].max())
     box = (xmax - xmin) * (ymax - ymin)
@@ -246,11 +288,19 @@ class RoomGeometry:
 
 def room_geometry(scene: Scene, room: Room, frame_depth_m: float = 0.5) -> RoomGeometry:
     """Lookups of ``room``'s windows; opaque faces within ``frame_depth_m`` [m] of a window's plane
-    and over it are its frame (:func:`frame_faces`), with their corners and edges."""
-    opaque = scene.triangles[scene.layer != WINDOW]
+    and over it are its frame (:func:`frame_faces`), with their corners and edges. Where the model
+    says which element a window is and which it is set in (``Window.key``, ``Window.host``: IFC),
+    only their faces can be its frame (its own frame, the wall's reveal, a curtain wall's
+    mullions): a roof edge or a railing over the glazing is an obstruction the rays find, not a
+    frame whose every edge splits the sampling cells."""
+    from en17037cli.scene.hosts import host_faces
+
+    opaque_mask = scene.layer != WINDOW
+    opaque = scene.triangles[opaque_mask]
     frames = [window_frame(w, i) for i, w in enumerate(room.windows)]
-    for f in frames:
-        faces = frame_faces(f, scene.vertices, opaque, frame_depth_m)
+    for f, w in zip(frames, room.windows):
+        own = host_faces(scene, w) if w.key is not None else None
+        faces = frame_faces(f, scene.vertices, opaque if own is None else scene.triangles[own[opaque_mask[own]]], frame_depth_m)
         f.frame_xys = frame_vertices(faces)
         f.frame_edges, f.frame_edge_opposite = frame_edges(f, faces)
     wof = np.full(len(scene.triangles), -1, dtype=np.int64)

@@ -91,10 +91,11 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
     limit = standard.view_limit([(e.eye_height_m, e.share_by_level) for e in res.eye_heights], res.level, required,
                                 settings.area_fraction)
     scores = view_scores(res, thresholds, settings.area_fraction)
+    verdict = {"level": level, "required": required, "status": standard.status(level, required)}
+    if res.layers_unassessable is not None:  # sight angle and distance measured; the layers cannot be judged
+        verdict = {"level": None, "required": required, "status": "not_assessable", "reason": res.layers_unassessable}
     return {
-        "level": level,
-        "required": required,
-        "status": standard.status(level, required),
+        **verdict,
         "limiting": json_limit(limit),
         "score": json_scores(room_view_score(scores), scores),
         "error_estimates": {

@@ -110,8 +110,14 @@ class EyeHeightResult:
 
 @dataclass
 class ViewResult:
-    """The view result of one room: per eye height, and the room's level (the lowest of them)."""
+    """The view result of one room: per eye height, and the room's level (the lowest of them).
+
+    layers_unassessable : why the view layers cannot be judged on this model (it has no landscape:
+        :func:`~en17037cli.criteria.view.no_landscape`), or None; then the room's view is not
+        assessable, whatever its sight angle and distance, which are still reported
+    """
 
     eye_heights: list[EyeHeightResult]
     level: int
     notes: list[str] = field(default_factory=list)
+    layers_unassessable: str | None = None

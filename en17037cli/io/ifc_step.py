@@ -1,0 +1,99 @@
+"""The STEP (ISO 10303-21) text of an IFC file before ifcopenshell reads it: what authoring tools
+get wrong in it, repaired where the intent is plain, and a check that every instance was read.
+
+References: ISO 10303-21:2016 clause 12.2.2 (an attribute written ``*`` is a derived attribute
+redeclared by a subtype; an unset optional attribute is ``$``).
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from en17037cli.errors import InputError
+
+#: One instance on one line: ``#12= IFCWINDOW(...);`` (id, entity, arguments).
+_INSTANCE = re.compile(rb"(?m)^[ \t]*(#\d+[ \t]*=[ \t]*)([A-Za-z0-9_]+)[ \t]*\((.*)\)[ \t]*;[ \t]*\r?$")
+#: A ``*`` standing alone as an argument.
+_STAR = re.compile(rb"[(,][ \t]*\*[ \t]*[,)]")
+#: Tokens of a STEP argument list: strings (with '' escapes), brackets, commas, anything else.
+_TOKEN = re.compile(rb"'(?:[^']|'')*'|[(),]|[^'(),]+")
+
+
+def top_level_arguments(args: bytes) -> list[bytes]:
+    """The arguments of one instance (the text between its outer brackets), split at top-level commas."""
+    out, depth, cur = [], 0, []
+    for tok in _TOKEN.findall(args):
+        if tok == b"(":
+            depth += 1
+        elif tok == b")":
+            depth -= 1
+        elif tok == b"," and depth == 0:
+            out.append(b"".join(cur))
+            cur = []
+            continue
+        cur.append(tok)
+    out.append(b"".join(cur))
+    return out
+
+
+def repair_derived_markers(data: bytes, schema_name: str) -> tuple[bytes, int, set[str]]:
+    """``data`` with each ``*`` written for an attribute that the schema does not derive replaced by
+    ``$`` (unset), the number replaced, and the entities that had them.
+
+    Some exporters (Renga Architecture 2.x) write ``*`` for unset optional attributes (Name,
+    Description, ObjectType of every element). ifcopenshell then cannot read those attributes and
+    its geometry iterator silently leaves the element out: a house's windows and walls vanish.
+    Only single-line instances with such a token are touched; valid ``*`` (the derived attributes
+    of IfcGeometricRepresentationSubContext, say) stay.
+    """
+    if not _STAR.search(data):
+        return data, 0, set()
+    import ifcopenshell.ifcopenshell_wrapper as wrapper
+
+    schema = wrapper.schema_by_name(schema_name)
+    derived: dict[bytes, list[bool] | None] = {}
+    count = 0
+    entities: set[str] = set()
+
+    def fix(m: re.Match) -> bytes:
+        nonlocal count
+        body = m.group(3)
+        if not _STAR.search(b"(" + body + b")"):
+            return m.group(0)
+        ent = m.group(2).upper()
+        if ent not in derived:
+            try:
+                derived[ent] = list(schema.declaration_by_name(ent.decode("ascii")).derived())
+            except Exception:  # an entity the schema does not know: ifcopenshell will say so
+                derived[ent] = None
+        flags = derived[ent]
+        if flags is None:
+            return m.group(0)
+        args = top_level_arguments(body)
+        changed = [b"$" if a.strip() == b"*" and k < len(flags) and not flags[k] else a for k, a in enumerate(args)]
+        n = sum(a is not b for a, b in zip(args, changed))
+        if not n:
+            return m.group(0)
+        count += n
+        entities.add(m.group(2).decode("ascii"))
+        return m.group(1) + m.group(2) + b"(" + b",".join(changed) + b");"
+
+    return _INSTANCE.sub(fix, data), count, entities
+
+
+def check_all_read(path: Path, data: bytes, f) -> None:
+    """InputError naming the line where ifcopenshell stopped, when it read fewer instances than the
+    file defines: on a broken STEP line it may stop without an error, and a model read in part
+    would give a wrong answer, not a failed one."""
+    read = len(f.entity_names())
+    if read >= data.count(b"\n#"):  # cheap: no more instance lines than instances read
+        return
+    defined = [(int(m.group(1)), m.start()) for m in re.finditer(rb"(?m)^[ \t]*#(\d+)[ \t]*=", data)]
+    if read >= len(defined):
+        return
+    names = set(f.entity_names())
+    k = next(i for i, (sid, _) in enumerate(defined) if sid not in names)
+    sid, offset = defined[k]  # the first instance missing: reading stopped on its line
+    line = data.count(b"\n", 0, offset) + 1
+    raise InputError(f"{path}: broken IFC (STEP) data at line {line} (#{sid}): only {read} of {len(defined)} instances "
+                     "could be read; re-export the model or repair that line")

@@ -1,0 +1,187 @@
+"""What real IFC exports do that the project's own sample did not, one quirk per test, each on a
+one-room model written with ifcopenshell.api (en17037cli.samples.ifc.Builder):
+
+* a window whose glass has no transparent style (older ArchiCAD, BlenderBIM): its pane from its geometry;
+* a window's own frame flush with its glass: its frame, never "glazing on an opaque face";
+* glass on the face of a wall that has no opening for it: an input error naming the wall by
+  class, Name and GlobalId, with what a project file can do about it;
+* a railing in the room in front of a jamb: point P stays on the wall's room-side face;
+* space boundaries that name one of the room's two windows: both are its windows;
+* ``*`` written for stored attributes (Renga): read as unset, the elements kept;
+* a project whose spaces give no room: never a pass;
+* the README's "From BIM" project, as written.
+
+The room: 6 x 5 m inside 0.3 m walls, 2.7 m high; a south window 2.0 x 1.4 m (sill 0.8 m), an
+east window 1.2 x 1.2 m; glass 6 mm thick in an 8 cm frame set 2 cm into the wall.
+"""
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from click.testing import CliRunner
+
+from en17037cli import pipeline
+from en17037cli.cli import cli
+from en17037cli.errors import InputError
+from en17037cli.project import load_project
+from en17037cli.scene import build_scene
+
+pytest.importorskip("ifcopenshell")
+ROOT = Path(__file__).resolve().parents[1]
+SUN = {"date": "03-21", "period": {"start": "03-21", "end": "03-21"}}
+WALL = 0.3
+
+
+def one_room(path: Path, *, glass: str = "glass", railing: bool = False, name_both: bool = False,
+             uncut: bool = False, store: bool = False, store_name: tuple[str, str] = ("S1", "Store")) -> Path:
+    """Write the one-room model (see the module docstring); ``glass``: the glass's style ('frame'
+    for an opaque one), ``railing``: a 5 cm rail 5 cm inside the south window's east jamb,
+    ``name_both``: space boundaries for both windows (else the south one only), ``uncut``: an
+    extra window whose glass lies on the west wall's outer face with no opening, ``store``: a
+    windowless second space."""
+    from en17037cli.samples.ifc import Builder
+
+    b = Builder("IFC4")
+    st = b.storey("Ground", 0.0)
+    b.locate(52.0, 4.36, 0.0)
+    foot = [(0, 0), (6.6, 0), (6.6, 5.6), (0, 5.6)]
+    b.slab("Floor", st, foot, -0.2, 0.2)
+    b.slab("Roof", st, foot, 2.7, 0.2)
+    walls = [b.wall(f"Wall {k}", st, *p, *q, 0.0, 2.7) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
+    room = b.space("R1", "Room", st, [(WALL, WALL), (6.3, WALL), (6.3, 5.3), (WALL, 5.3)], 0.0, 2.7)
+    if store:
+        b.space(*store_name, st, [(10, 10), (12, 10), (12, 12), (10, 12)], 0.0, 2.7)
+    b.styles["glass"] = b.styles[glass]
+    b.window("W south", st, walls[0], (3.3, 0.0, 1.5), (0, -1, 0), (1, 0, 0), 2.0, 1.4, spaces=[room])
+    b.window("W east", st, walls[1], (6.6, 2.8, 1.5), (1, 0, 0), (0, 1, 0), 1.2, 1.2, spaces=[room] if name_both else [])
+    if railing:
+        r = b.entity("IfcRailing", "Stair rail")
+        b.place(r, st)
+        b.represent(r, [b.prism([(4.25, 0.35), (4.9, 0.35), (4.9, 0.4), (4.25, 0.4)], 0.0, 2.0)])
+    if uncut:  # glass on the west wall's outer face, no opening: the wall hides it
+        w = b.entity("IfcWindow", "W west")
+        b.place(w, st)
+        pane = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
+        b.represent(w, [b.plate(pane, [], (0.0, 2.8, 1.5), (0, 1, 0), (0, 0, 1), (1, 0, 0), 0.006)], style="glass")
+    return b.write(path)
+
+
+def project(tmp: Path, ifc: Path, rooms=None, **extra) -> Path:
+    doc = {"version": 1, "name": "one room", "model": {"files": [{"path": str(ifc)}]},
+           "location": {"timezone": "Europe/Amsterdam"}, "rooms": rooms or [{"ifc_spaces": "*"}],
+           "sunlight": SUN, "requirements": {"view": "none", "sunlight": "minimum"}, **extra}
+    p = tmp / "project.yaml"
+    p.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return p
+
+
+def scene_of(tmp: Path, **kw):
+    return build_scene(load_project(project(tmp, one_room(tmp / "room.ifc", **kw)), []))
+
+
+def test_glass_without_a_transparent_style_is_taken_from_the_geometry(tmp_path):
+    """Glass styled like the frame (opaque): the thin plate in the wall's plane is the pane, said
+    in a note; without it the room had no window."""
+    s = scene_of(tmp_path, glass="frame")
+    room = s.rooms[0]
+    assert sorted(w.name for w in room.windows) == ["W east", "W south"]
+    south = next(w for w in room.windows if w.name == "W south")
+    assert south.area_m2 == pytest.approx((2.0 - 0.12) * (1.4 - 0.12), abs=1e-9)  # the glass: 6 cm frame all round
+    assert any("panes taken from their geometry" in n for n in s.notes)
+
+
+def test_own_frame_is_no_error_and_an_uncut_wall_names_the_wall(tmp_path):
+    """The frame around the glass is the window's own (no error). Glass lying on a wall's face
+    with no opening: one line naming the window and the wall (class, Name, GlobalId) and the two
+    things a project file can do (leave the window out, or the wall)."""
+    scene_of(tmp_path)  # frame and glass of one product: fine
+    with pytest.raises(InputError) as e:
+        scene_of(tmp_path, uncut=True)
+    msg = str(e.value)
+    wall = re.search(r"lies on IfcWall 'Wall 3' \(([0-9A-Za-z_$]{22})\)", msg)
+    assert wall is not None and "\n" not in msg, msg
+    assert "{id: '" in msg and "layer: interior}" in msg and f"exclude: ['{wall[1]}']" in msg
+    assert "cut the opening" not in msg
+
+
+def test_a_railing_in_the_room_does_not_move_point_p(tmp_path):
+    """A rail 5 cm inside the wall, across the south window's east jamb: P stays on the wall's
+    room-side face, y = 0.3 m; the reveal is measured from the glass's outer face, 2 cm (frame
+    set in) + 4 cm (half the frame) - 3 mm (half the glass) inside the wall's outer face:
+    0.3 - 0.057 = 0.243 m. Probing the deepest face behind the glazing put P on the rail (0.343 m)."""
+    depths = {}
+    for rail in (False, True):
+        sub = tmp_path / f"rail{rail}"
+        sub.mkdir()
+        r = pipeline.run(load_project(project(sub, one_room(sub / "room.ifc", railing=rail)), []))
+        res = r.rooms[0].assessed("sunlight")
+        k = [w.name for w in r.rooms[0].room.windows].index("W south")
+        depths[rail] = (res.reveal_depths_m[k], (res.points_local[k] + r.scene.origin)[1])
+    assert depths[True] == depths[False]
+    glass_outer = 0.02 + (0.08 / 2 - 0.006 / 2)  # frame 2 cm in, glass centred in the 8 cm frame: its outer face
+    assert depths[True][1] == pytest.approx(WALL, abs=1e-9)
+    assert depths[True][0] == pytest.approx(WALL - glass_outer, abs=1e-9)
+
+
+@pytest.mark.parametrize("name_both", [False, True])
+def test_space_boundaries_confirm_never_remove(tmp_path, name_both):
+    """The file's boundaries name the south window only (or both): the geometry gives both."""
+    room = scene_of(tmp_path, name_both=name_both).rooms[0]
+    reasons = room.window_reasons
+    assert sorted(reasons) == ["W east", "W south"]
+    assert "named by the model's space boundaries too" in reasons["W south"]
+    assert ("named by the model's space boundaries" in reasons["W east"]) == name_both
+
+
+def test_star_for_stored_attributes_is_read_as_unset(tmp_path):
+    """Renga writes '*' (derived) for Name, Description, ObjectType of every element; ifcopenshell
+    then leaves them out of its geometry: read as '$', the windows stay, with a note."""
+    ifc = one_room(tmp_path / "room.ifc")
+    text = ifc.read_text()
+    starred, n = re.subn(r"(IFCWINDOW\('[^']+',[^,]*,)'(W [a-z]+)',\$,\$,", r"\1*,*,*,", text)
+    assert n == 2
+    bad = tmp_path / "starred.ifc"
+    bad.write_text(starred)
+    s = build_scene(load_project(project(tmp_path, bad), []))
+    assert len(s.rooms[0].windows) == 2
+    assert any("written '*' (derived)" in n and "IFCWINDOW" in n for n in s.notes)
+
+
+def test_no_room_is_never_a_pass(tmp_path):
+    """Only a windowless space picked (the Revit office whose boundaries name no window gave a
+    green PASS over an empty table): status fail, and a warning saying why."""
+    p = project(tmp_path, one_room(tmp_path / "room.ifc", store=True), rooms=[{"ifc_spaces": "S1"}])
+    r = pipeline.run(load_project(p, []))
+    assert r.rooms == [] and r.status == "fail"
+    assert any(w.startswith("no room to assess: every space the project picks is left out") for w in r.warnings)
+
+
+def test_spaces_named_alike_are_told_apart_by_globalid(tmp_path):
+    """Two spaces both 'Room (R1)': the rooms get their GlobalIds, not a duplicate-name error."""
+    s = build_scene(load_project(project(tmp_path, one_room(tmp_path / "room.ifc", store=True, store_name=("R1", "Room"))), []))
+    assert len(s.rooms) == 1 and re.fullmatch(r"Room \(R1\) \[[0-9A-Za-z_$]{22}\]", s.rooms[0].name)
+    assert len(s.left_out) == 1 and s.left_out[0].name.startswith("Room (R1) [") and not s.left_out[0].windows
+
+
+def test_the_readme_from_bim_project_runs_as_written(tmp_path):
+    """The README's "From BIM" YAML, unchanged, next to a building.ifc: the sample house, and the
+    Duplex of the real corpus where it is present. Coarse view settings only (--set)."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = next(b for b in re.findall(r"```yaml\n(.*?)```", text, re.S) if "ifc_spaces" in b and "building.ifc" in b)
+    models = [ROOT / "sample_projects" / "ifc-house" / "house.ifc",
+              ROOT.parent / "shared" / "data" / "real-models" / "Duplex_A_20110907.ifc"]
+    fast = ["view.grid_spacing_m=3", "view.eye_heights_m=[1.2]", "view.angular_resolution_deg=4", "view.refine_levels=0"]
+    for model in (m for m in models if m.is_file()):
+        folder = tmp_path / model.stem
+        folder.mkdir()
+        shutil.copy(model, folder / "building.ifc")
+        (folder / "project.yaml").write_text(block, encoding="utf-8")
+        args = ["check", str(folder / "project.yaml"), "--out", str(folder / "out"), "-q", "--no-plots"]
+        r = CliRunner().invoke(cli, args + [x for s in fast for x in ("--set", s)], catch_exceptions=False)
+        assert r.exit_code in (0, 1), (model.name, r.output)
+        assert yaml.safe_load(block)["version"] == 1
