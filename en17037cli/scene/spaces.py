@@ -34,7 +34,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.geometry import points_in_triangles, triangulate_polygon, window_axes
+from en17037cli.geometry import points_in_triangles, window_axes
 from en17037cli.io.mesh import Space
 from en17037cli.project.settings import RoomSpec
 from en17037cli.scene.hosts import host_depths
