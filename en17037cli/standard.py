@@ -103,7 +103,7 @@ class Practice:
 
 #: National practices, by the name a project file gives (``practice:``). Each sets project values
 #: (``key.path: value``) that the project file itself does not give; a value it gives wins.
-#: Only practices whose source states the values plainly are here (see the README for the others).
+#: Only practices whose source states the values plainly are here (docs/project-file.md lists the others).
 PRACTICES: dict[str, Practice] = {
     "en17037": Practice("en17037", "EN 17037:2018+A1:2021, clauses 5.2 and 5.3 and Annex A", {}),
     "gb-br209-2022": Practice(

@@ -170,7 +170,7 @@ def report_markdown(report: dict, figures=()) -> str:
     L += _md_table([["room", "check", "reached", "required", "result", "what limits it", "score"]]
                    + [[r["room"], r["check"], r["reached"], r["required"], f"**{r['result']}**", r["limits"], r["score"]]
                       for r in rows])
-    L += ["", "Score: 0 to 3, the level at each threshold and linear in between (beyond the standard; see the README).", ""]
+    L += ["", "Score: 0 to 3, the level at each threshold and linear in between (beyond the standard; see docs/method.md of en17037cli).", ""]
     attention = [w for w in report["warnings"] if not is_repair(w)]
     if attention:
         L += ["**Warnings:**", ""] + [f"- {w}" for w in attention] + [""]

@@ -161,14 +161,14 @@ DEFAULTS: dict = {}
 def box_room_project(directory: Path, b: BoxRoom | None = None, offset=(0.0, 0.0, 0.0), name="Synthetic street",
                      sunlight: dict | None = DEFAULTS, view: dict | None = DEFAULTS, location: dict | None = None,
                      rotate_deg: float = 0.0, scale: float = 1.0, split_files: bool = False,
-                     shuffle_seed: int | None = None, true_north_deg: float | None = None) -> Path:
+                     shuffle_seed: int | None = None, true_north_deg: float | None = None, description: str | None = None) -> Path:
     """Write the model and ``project.yaml`` of a box-room scene into ``directory``; return the project path.
 
     ``rotate_deg`` turns the model counter-clockwise about +z (true north is turned with it),
     ``scale`` writes it in cm (100) or mm (1000), ``split_files`` writes one OBJ per object and
     ``shuffle_seed`` shuffles the face order: the answers must not change. ``true_north_deg``
     overrides the true north that follows the rotation. ``view`` / ``sunlight``: the project's
-    sections; None leaves the section out.
+    sections; None leaves the section out. ``description``: the project's description (its reports print it).
     """
     import yaml
 
@@ -193,6 +193,7 @@ def box_room_project(directory: Path, b: BoxRoom | None = None, offset=(0.0, 0.0
     project = {
         "version": 1,
         "name": name,
+        **({"description": description} if description else {}),
         "model": {"units": units, "up_axis": "z", "true_north_deg": float((-rotate_deg) % 360.0 if true_north_deg is None else true_north_deg), "files": files},
         "location": location or {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
         "rooms": [{"name": "box room", "floor_z": float(offset[2])}],
