@@ -1,4 +1,4 @@
-"""Measure the error of the default settings against closed-form answers (README "Accuracy").
+"""Measure the error of the default settings against closed-form answers (docs/accuracy.md).
 
 View: the synthetic box room (en17037cli.samples), a 0.25 m grid of viewpoints at both eye
 heights, against the hand formulas for the sight angle, the layer solid angles (rectangle

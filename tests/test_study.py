@@ -30,7 +30,7 @@ def test_tolerance_ladder_converges_at_first_order(tmp_path):
     ok = [r["value"] for r in res["rows"] if r["within_target"]]
     assert res["cheapest"]["sunlight.tolerance_s"] in ok
     rows = list(csv.DictReader((tmp_path / "out" / "convergence.csv").open()))
-    assert len(rows) == 4 and rows[0]["quantity"] == "hours" and float(rows[-1]["error"]) <= 2.0
+    assert len(rows) == 4 and rows[0]["quantity"] == "sun_time" and float(rows[-1]["error"]) <= 2.0
 
 
 def test_view_ladder_and_command_line(tmp_path):

@@ -15,13 +15,13 @@ SIGHT_ANGLE_DEG = 3e-4
 #: Smallest sight-angle error a float64 closed form resolves [deg]: the plan method's error bound
 #: is round-off (about 1e-12 deg), the closed forms' own round-off about 1e-13 deg.
 SIGHT_ANGLE_ROUNDOFF_DEG = 1e-11
-#: Solid angle of a layer [sr] at the defaults (1 deg cells, 3 refinements), as the README's
+#: Solid angle of a layer [sr] at the defaults (1 deg cells, 3 refinements), as docs/accuracy.md's
 #: accuracy section states it: within max(1 %, 1e-3 sr) at the tested points (measured).
 def solid_angle_sr(exact: float) -> float:
     return max(0.01 * exact, 1e-3)
 
 
-#: Largest solid-angle error estimate at the defaults [sr] (README accuracy table: half the solid
+#: Largest solid-angle error estimate at the defaults [sr] (docs/accuracy.md's table: half the solid
 #: angle of the cells still mixed, at most 5.5e-3 sr on the box room and the seed office).
 SOLID_ANGLE_ESTIMATE_MAX_SR = 5.5e-3
 #: Cells tile a window exactly: their weights add up to its solid angle but for round-off [sr].

@@ -49,7 +49,8 @@ figure svg { display: block; width: 100%; height: auto; border: 1px solid var(--
 figcaption { font-size: 0.85rem; color: #57606a; }
 .small { font-size: 0.85rem; color: #57606a; }
 tr { break-inside: avoid; page-break-inside: avoid; }
-@media (max-width: 40rem) { figure { flex-basis: 100%; } body { padding: 0 0.5rem; } }
+@media (max-width: 40rem) { figure { flex-basis: 100%; } body { padding: 0 0.5rem; }
+  td.long { min-width: 15rem; } }
 @page { size: A4; margin: 14mm 15mm; }
 @media print {
   body { max-width: none; margin: 0; padding: 0; font-size: 8.5pt; line-height: 1.3; }
@@ -70,6 +71,10 @@ def _status(label: str) -> str:
     return f'<span class="status {label.replace(" ", "-")}">{escape(label)}</span>'
 
 
+#: A cell of more characters than this keeps a readable width on a phone (its table scrolls instead).
+LONG_CELL = 40
+
+
 def _table(rows: list[list[str]], numeric: tuple[int, ...] = (), raw: tuple[int, ...] = ()) -> str:
     """An HTML table in a box that scrolls sideways on a narrow screen, the first row as header;
     cells escaped unless their column is in ``raw``."""
@@ -79,7 +84,8 @@ def _table(rows: list[list[str]], numeric: tuple[int, ...] = (), raw: tuple[int,
         cells = []
         for j, c in enumerate(r):
             text = str(c) if j in raw else escape(str(c))
-            cells.append(f'<td class="num">{text}</td>' if j in numeric else f"<td>{text}</td>")
+            cls = "num" if j in numeric else "long" if len(str(c)) > LONG_CELL else ""
+            cells.append(f'<td class="{cls}">{text}</td>' if cls else f"<td>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     return f'<div class="scroll"><table><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table></div>'
 
