@@ -35,7 +35,7 @@ def main(out: Path) -> None:
         ax.grid(color="0.9", lw=0.5)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.07), ncol=3, fontsize=8, frameon=False)
-    fig.text(0.5, 0.015, "0.5 m grid: a side of the utilised area within 1e-5 of its size of a multiple of the spacing gets one\n"
+    fig.text(0.5, 0.015, "0.5 m grid: a side of the utilised area within 1e-4 of its size of a multiple of the spacing gets one\n"
              "line less than that multiple, centred: the outermost lines lie 0.25 m inside it, never on it", ha="center",
              fontsize=8)
     fig.subplots_adjust(left=0.04, right=0.99, top=0.9, bottom=0.2, wspace=0.25)

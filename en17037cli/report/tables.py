@@ -14,9 +14,10 @@ def view_points_csv(report: dict) -> str:
                 "outside_distance_m", "outside_distance_unobstructed", "window_solid_angle_sr", "sky_sr", "landscape_sr",
                 "ground_sr", "layers", "level_sight_angle", "level_distance", "level_layers", "level", "near_threshold"])
     for room in report["rooms"]:
-        if not assessed(room["view"]):
+        view = room["view"]  # assessed, or not assessable with its values (the layers of a model without landscape)
+        if not view or not view.get("eye_heights"):
             continue
-        for e in room["view"]["eye_heights"]:
+        for e in view["eye_heights"]:
             for p in e["points"]:
                 lc = p["level_by_criterion"]
                 w.writerow([room["name"], e["eye_height_m"], *p["point"], p["horizontal_sight_angle_deg"],

@@ -12,7 +12,7 @@ from en17037cli.scene.model import GLAZING_OFFSET_M, Room, Scene
 #: multiples of the spacing, where a bare floor(length / spacing) jumps: the same room given as a
 #: rectangle and derived from the model's faces (which comes back a micron smaller) got different
 #: grids, 77 and 60 points on a 4 x 6 m room.
-GRID_SNAP = 1e-5
+GRID_SNAP = 1e-4
 
 
 def grid_tolerance(size_m: float, spacing_m: float) -> float:
