@@ -68,6 +68,8 @@ def summary(report: dict, out: Path):
                 table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
     console = stdout_console()
     console.print(table)
+    for line in why_lines(report):
+        click.echo(line)
     s = report["summary"]
     if s["dwellings_sunlight_required"] > 1:
         console.print(f"{s['dwellings_sunlight_pass']} of {s['dwellings_sunlight_required']} dwellings pass sunlight; "
@@ -78,10 +80,33 @@ def summary(report: dict, out: Path):
     click.echo(f"status: {report['status'].upper()}; reports in {out}/ (report.html, report.md, report.json and the CSVs)")
 
 
+#: Rows of the verdict table explained under it at most; the rest are in report.md and report.html.
+WHY_LINES = 12
+
+
+def why_lines(report: dict) -> list[str]:
+    """One line per room and check that did not pass: what limits it and by how much, or why it was
+    not assessed (the sentences of report.md), so a terminal run says why without opening a file."""
+    from en17037cli.report.verdicts import limit_text
+
+    out = []
+    for room in report["rooms"]:
+        for key, name in (("daylight", "daylight"), ("view", "view out"), ("sunlight", "sunlight")):
+            r = room.get(key)
+            if not r or r["status"] == "pass":
+                continue
+            why = limit_text(key, r) if r["status"] == "fail" else ""  # starts with what limits: "sight angle: ..."
+            status = r["status"].replace("_", " ")
+            out.append(f"{room['name']}: {why}" if why else f"{room['name']}: {name} {status}: {r.get('reason') or 'see report.md'}")
+    if len(out) > WHY_LINES:
+        out = out[:WHY_LINES] + [f"... and {len(out) - WHY_LINES} more: report.md lists every room"]
+    return out
+
+
 def daylight_words(section: dict) -> str:
     """``D median 2.1 %, method 1`` or ``climate-based, hours first``: the daylight row's figure."""
     if section["method"] == "daylight_factor":
-        return f"D median {section.get('median_daylight_factor_pct', 0):g} %, method 1"
+        return f"D median {section.get('median_daylight_factor_pct', 0):.2f} %, method 1"
     return f"climate-based, {section['aggregation'].replace('_', ' ')}"
 
 

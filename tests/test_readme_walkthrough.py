@@ -86,7 +86,7 @@ def test_the_output_shown_is_the_output_printed(ran):
 
 def test_the_verdict_quoted_is_in_the_report(ran):
     cwd, _ = ran
-    quote = re.search(r"table of `report.html` and `report.md`: \*(.*?)\*", walkthrough(), re.S).group(1)
+    quote = re.search(r"`report.md`: \*(.*?)\*", walkthrough(), re.S).group(1)
     quote = " ".join(quote.split())
     for name in ("report.md", "report.html"):
         text = " ".join((cwd / "my-flat" / "en17037-report" / "project" / name).read_text(encoding="utf-8").split())
