@@ -85,3 +85,43 @@ def clip_halfplane(poly: np.ndarray, count: np.ndarray, axis: int, bound: np.nda
         out[rows[cross], n_out[cross]] = pc[cross]
         n_out += cross
     return out, n_out
+
+
+def cut_triangles(tri: np.ndarray, z: np.ndarray):
+    """Segments cut from triangles by horizontal planes, vectorised over planes and triangles.
+
+    Half-open rule (a vertex on the plane counts as below): an edge lying in the plane is cut once,
+    from the triangle above it.
+
+    Parameters
+    ----------
+    tri : (k, 3, 3) float [m]
+    z : (g,) float [m], heights of the planes
+
+    Returns
+    -------
+    ok : (g, k) bool, the plane cuts the triangle in a segment
+    a, b : (g, k, 2) float [m], the segment's ends (x, y); meaningless where not ``ok``
+    """
+    s = tri[None, :, :, 2] - np.asarray(z, float)[:, None, None]  # (g, k, 3) height above each plane
+    ends = []
+    for i, j in ((0, 1), (1, 2), (2, 0)):  # the three edges of every triangle
+        si, sj = s[..., i], s[..., j]
+        below = si <= 0
+        cross = below != (sj <= 0)
+        # from the end below the plane to the one above: an edge shared by two triangles is cut
+        # at the same point to the last bit in both, so no crack opens between their shadows
+        s_lo, s_hi = np.where(below, si, sj), np.where(below, sj, si)
+        v_lo = np.where(below[..., None], tri[None, :, i, :2], tri[None, :, j, :2])
+        v_hi = np.where(below[..., None], tri[None, :, j, :2], tri[None, :, i, :2])
+        t = s_lo / np.where(cross, s_lo - s_hi, 1.0)
+        xy = v_lo + t[..., None] * (v_hi - v_lo)
+        ends.append((cross, xy))
+    flags = np.stack([e[0] for e in ends], axis=-1)  # (g, k, 3)
+    xy = np.stack([e[1] for e in ends], axis=-2)  # (g, k, 3, 2)
+    ok = flags.sum(axis=-1) == 2
+    first = np.argmax(flags, axis=-1)
+    second = 2 - np.argmax(flags[..., ::-1], axis=-1)
+    a = np.take_along_axis(xy, first[..., None, None], axis=-2)[..., 0, :]
+    b = np.take_along_axis(xy, second[..., None, None], axis=-2)[..., 0, :]
+    return ok, a, b

@@ -194,7 +194,9 @@ def _settings(path: Path, config: dict) -> Project:
         req = Requirements(**{**config["requirements"], **room.get("requirements", {})})
         rooms.append(RoomSpec(
             name=room.get("name", ""), index=i, floor_z=float(room.get("floor_z", 0.0)), ifc_spaces=room.get("ifc_spaces"),
-            gbxml_spaces=room.get("gbxml_spaces"),
+            gbxml_spaces=room.get("gbxml_spaces"), auto=bool(room.get("auto", False)),
+            auto_all_storeys="auto" in room and "floor_z" not in room,
+            inside=None if "inside" not in room else np.asarray(room["inside"], dtype=float),
             floor=None if "floor" not in room else np.asarray(room["floor"], dtype=float),
             windows=None if "windows" not in room else tuple(room["windows"]),
             ceiling_z=None if "ceiling_z" not in room else float(room["ceiling_z"]),
@@ -217,6 +219,10 @@ def _settings(path: Path, config: dict) -> Project:
 def _check_consistency(path: Path, config: dict) -> None:
     """Rules a JSON Schema cannot express; each raises a one-line :class:`InputError`."""
     for i, r in enumerate(config["rooms"]):
+        clash = [k for k in ("name", "floor", "inside", "view_points", "sun_points") if k in r] if "auto" in r else []
+        if clash:
+            raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with auto (one entry stands for every room the walls "
+                             "enclose, which the plan names); write the room out instead")
         for key in ("ifc_spaces", "gbxml_spaces"):
             if key not in r:
                 continue

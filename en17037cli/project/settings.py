@@ -115,6 +115,8 @@ class RoomSpec:
     ifc_spaces : a glob on IfcSpace names: the entry stands for one room per matched space (the
         scene makes their specs; ``name`` and ``floor_z`` are then None)
     gbxml_spaces : the same on the Spaces of a gbXML model
+    auto : the entry stands for one room per region the walls enclose at ``floor_z`` (or at every
+        storey, ``auto_all_storeys``) with a window; inside : (2,) [m] a point in the room, or None
     floor : (k, 2) [m] polygon in the scene frame, or None (derived from the model)
     windows : globs on window names, or None: every window that bounds the room
     window_margin_m : [m], how far beyond the floor's outline a window of the room may lie (the wall)
@@ -134,6 +136,9 @@ class RoomSpec:
     requirements: Requirements
     ifc_spaces: str | None = None
     gbxml_spaces: str | None = None
+    auto: bool = False  # one room per region the walls enclose with a window (scene/section.py)
+    auto_all_storeys: bool = False  # auto without floor_z: at every storey of the model
+    inside: np.ndarray | None = None  # (2,) [m] a point in the room: picks the region around it
 
 
 @dataclass(frozen=True)

@@ -35,6 +35,10 @@ WIDTH_SAMPLES = 11
 SIDE_OFFSET_M = 1e-3
 #: Heights closer than this are equal when comparing glazing with floor and ceiling [m].
 HEIGHT_TOL_M = 0.01
+#: The ceiling is the lowest level of horizontal faces covering this share of the floor [-] ...
+CEILING_COVER = 0.5
+#: ... faces within this height of each other being one level [m].
+CEILING_LEVEL_M = 0.01
 
 
 @dataclass(frozen=True)
@@ -62,19 +66,31 @@ def floor_components(scene: Scene, floor_z: float):
 
 
 def derive_ceiling(scene: Scene, floor, floor_z: float) -> tuple[float, str]:
-    """Ceiling level [m, local] over a floor: the lowest horizontal interior face at least
-    :data:`MIN_ROOM_HEIGHT_M` above it whose centroid lies over the floor; else floor + :data:`DEFAULT_ROOM_HEIGHT_M`."""
+    """Ceiling level [m, local] over a floor: the lowest level of horizontal interior faces at least
+    :data:`MIN_ROOM_HEIGHT_M` above it whose faces cover at least :data:`CEILING_COVER` of the floor
+    in plan (a lintel, a beam or a soffit covers a strip: not the ceiling); else the level covering
+    most of it; else floor + :data:`DEFAULT_ROOM_HEIGHT_M`."""
     import shapely
 
     tris = scene.faces_of(scene.layer == INTERIOR)
     normals, areas = triangle_normals(tris)
     z = tris[..., 2].mean(axis=1)
     cand = (np.abs(normals[:, 2]) > 0.999) & (z >= floor_z + MIN_ROOM_HEIGHT_M) & (areas > 0)
-    if np.any(cand):
-        c = tris[cand].mean(axis=1)
-        over = shapely.contains_xy(floor, c[:, 0], c[:, 1])
-        if np.any(over):
-            return float(z[cand][over].min()), "the lowest horizontal interior face over the floor"
+    x0, y0, x1, y1 = floor.bounds
+    lo, hi = tris[..., :2].min(axis=1), tris[..., :2].max(axis=1)
+    cand &= (lo[:, 0] < x1) & (hi[:, 0] > x0) & (lo[:, 1] < y1) & (hi[:, 1] > y0)  # over the floor's box
+    if np.any(cand) and floor.area > 0:
+        level = np.round(z[cand] / CEILING_LEVEL_M).astype(np.int64)
+        polys = shapely.make_valid(shapely.polygons(tris[cand][..., :2]))
+        cover = {}
+        for lv in np.unique(level):  # a few levels over a room: slab, beams, lintels
+            cover[lv] = shapely.union_all(polys[level == lv]).intersection(floor).area / floor.area
+        ok = [lv for lv in sorted(cover) if cover[lv] >= CEILING_COVER]
+        best = ok[0] if ok else max(cover, key=lambda lv: (cover[lv], -lv))
+        if cover[best] > 0:
+            zc = float(z[cand][level == best].min())
+            return zc, (f"the lowest horizontal interior faces over the floor covering {cover[best]:.0%} of it"
+                        + ("" if ok else f" (none covers {CEILING_COVER:.0%})"))
     return floor_z + DEFAULT_ROOM_HEIGHT_M, f"no ceiling found over the floor: floor + {DEFAULT_ROOM_HEIGHT_M:g} m"
 
 
@@ -153,32 +169,42 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
     import shapely
 
     floor_z = spec.floor_z - scene.origin[2]
+    region = None
     if spec.floor is not None:
         poly = shapely.Polygon(spec.floor - scene.origin[:2])
         if not poly.is_valid or poly.area <= 0:
             raise InputError(f"{where}.floor: not a simple polygon with area; list its corners in order")
         source = "given"
     else:
-        parts = floor_components(scene, floor_z)
-        if not parts:
-            return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=shapely.Polygon(), windows=[], spec=spec,
-                        floor_source="none", problem=f"no horizontal interior faces at floor_z = {spec.floor_z:g} m; check "
-                        "floor_z or give 'floor' as a polygon [[x, y], ...]")
-        if len(parts) > 1:
-            named = [w for w in scene.windows if spec.windows and _globbed(w, spec.windows)]
-            if not named:
-                raise InputError(f"{where}: {len(parts)} separate floors at floor_z; give 'floor' as a polygon [[x, y], ...] "
-                                 "or name the room's windows (windows: [...]) to pick the floor beside them")
-            near = shapely.points(np.array([w.centroid[:2] for w in named]))
-            poly = parts[int(np.argmin([float(np.min(shapely.distance(p, near))) for p in parts]))]
+        from en17037cli.scene.section import room_cell
+
+        region = room_cell(scene, spec, floor_z, where)
+        if region is not None:
+            poly, cell, plan = region
+            source = "the region the walls enclose at eye height"
         else:
-            poly = parts[0]
-        source = "derived from horizontal interior faces at floor_z"
+            parts = floor_components(scene, floor_z)
+            if not parts:
+                return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=shapely.Polygon(), windows=[], spec=spec,
+                            floor_source="none", problem=f"no walls and no horizontal interior faces at floor_z = "
+                            f"{spec.floor_z:g} m; check floor_z or give 'floor' as a polygon [[x, y], ...]")
+            if len(parts) > 1:
+                named = [w for w in scene.windows if spec.windows and _globbed(w, spec.windows)]
+                if not named:
+                    raise InputError(f"{where}: {len(parts)} separate floors at floor_z; give 'floor' as a polygon "
+                                     "[[x, y], ...] or name the room's windows (windows: [...]) to pick the floor beside them")
+                near_pts = shapely.points(np.array([w.centroid[:2] for w in named]))
+                poly = parts[int(np.argmin([float(np.min(shapely.distance(p, near_pts))) for p in parts]))]
+            else:
+                poly = parts[0]
+            source = "derived from horizontal interior faces at floor_z (no walls enclose it)"
     if spec.ceiling_z is not None:
         ceiling_z, ceiling_source = spec.ceiling_z - scene.origin[2], "given"
     else:
         ceiling_z, ceiling_source = derive_ceiling(scene, poly, floor_z)
     windows, reasons = [], {}
+    if spec.floor is None and region is not None and chosen is None:  # the walls' region: windows by the plan
+        return _room_of_cell(scene, spec, where, poly, cell, plan, floor_z, ceiling_z, ceiling_source)
     near = windows_near(scene, poly, floor_z, ceiling_z, spec.window_margin_m)
     if chosen is not None:  # matched by the caller: no geometric rule here
         windows, reasons, near = [w for w, _ in chosen], {w.name: why for w, why in chosen}, np.zeros(len(near), bool)
@@ -202,3 +228,45 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
     return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=poly, windows=windows, spec=spec,
                 floor_source=source, ceiling_z=ceiling_z, ceiling_source=ceiling_source, window_reasons=reasons,
                 problem=problem)
+
+
+def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, plan, floor_z: float, ceiling_z: float,
+                  ceiling_source: str) -> Room:
+    """A room whose floor is a region of the plan (:mod:`~en17037cli.scene.section`): its windows are
+    those that open from that region (a probe from the glazing into the building meets it first)
+    with half their height between floor and ceiling; a window named by the spec's globs that
+    opens from another region, or from none, is an input error naming both."""
+    from en17037cli.scene.section import window_cell, wall_off
+
+    windows, reasons = [], {}
+    for w in scene.windows:
+        glob = _globbed(w, spec.windows) if spec.windows is not None else "*"
+        if glob is None:
+            continue
+        i, d, outward = window_cell(plan, w)
+        lo, hi = w.sill_z, w.head_z
+        roof = abs(float(w.normal[2])) >= WALL_WINDOW_MAX_NZ
+        inside = min(hi, ceiling_z) - max(lo, floor_z)
+        height_ok = (floor_z <= lo <= ceiling_z + spec.window_margin_m) if roof else inside >= 0.5 * (hi - lo) - HEIGHT_TOL_M
+        if i != cell or not height_ok:
+            if spec.windows is None:
+                continue
+            why = (f"its glazing (z {lo + scene.origin[2]:.2f} to {hi + scene.origin[2]:.2f} m) is not between floor and "
+                   f"ceiling" if i == cell else "it opens from another room" if i is not None else
+                   "it opens from no region the walls enclose within 1.2 m of its glazing")
+            raise InputError(f"{where}.windows: '{glob}' picks window '{w.name}', which does not bound room '{spec.name}' "
+                             f"({why}); remove it from the list, or give floor: [[x, y], ...]")
+        n = np.asarray(w.normal, float)
+        windows.append(w.facing(n if (n[2] > 0 if roof else float(np.dot(n[:2], outward)) >= 0) else -n))
+        reasons[w.name] = (f"opens from the room's region, its glazing {d:.2f} m from it, z {lo + scene.origin[2]:.2f} to "
+                           f"{hi + scene.origin[2]:.2f} m" if not roof else "roof glazing over the room's region")
+        off = wall_off(scene, plan, w, d, outward)
+        if off:
+            scene.warnings.append(f"{where}: window '{w.name}' of room '{spec.name}' {off}")
+    if spec.windows is not None and not windows:
+        known = ", ".join(f"'{w.name}'" for w in scene.windows)
+        raise InputError(f"{where}.windows: no window matches {list(spec.windows)}; windows found: {known}")
+    problem = None if windows else "no window opens from the region the walls enclose"
+    return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=poly, windows=windows, spec=spec,
+                floor_source="the region the walls enclose at eye height", ceiling_z=ceiling_z,
+                ceiling_source=ceiling_source, window_reasons=reasons, problem=problem)

@@ -1,0 +1,301 @@
+"""The plan of a storey as the walls draw it: the regions the opaque geometry encloses at a level.
+
+A room given by name and level (no ``floor`` polygon) gets the region its walls enclose, as a
+person reads a plan: the model is cut by horizontal planes a little above the floor
+at eye height (:data:`CUT_HEIGHT_M`), the cut segments of the opaque faces and of the glazing are
+noded and polygonized (shapely), and each bounded face wide enough for a person is a *cell*.
+Wall bottoms, stair treads, furniture tops and slab edges are never floor: faces are not floor,
+regions are. An opening of a wall at that height is closed where a cut near the floor or above
+door heads (:data:`BRIDGE_HEIGHTS_M`) finds the wall going on in its own line across it on both
+ends: the wall under a sill (so the room ends at the wall's inner face, not at the glazing), the
+lintel over a door; a beam across the room or a counter along a wall, which meet the walls
+square, add nothing. Small closed loops inside a cell (table legs, columns, a kitchen island) belong to the room's
+floor; larger ones (:data:`MIN_HOLE_M2`: a stair well, a shaft, a courtyard) stay holes.
+
+The cell of a room is the one its windows open from (a probe from each window's centre into
+the building, at most its wall's thickness away), or the one holding a point the user gives.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from en17037cli.geometry import cut_triangles
+from en17037cli.scene.model import INTERIOR, WINDOW, Scene, Window
+
+#: Height of the plan cut above the floor [m]: the lower eye height of EN 17037, where the view is
+#: judged, above tables, counters, beds and sofas (a cut near the floor takes the footprint of
+#: every counter and bed along a wall off the room: a 0.6 m counter on a 3 m wall is 7.5 % of
+#: a 24 m² room).
+CUT_HEIGHT_M = 1.2
+#: Heights of the cuts whose wall pieces close the openings of the plan's walls where they continue
+#: a wall in its own line on both ends [m]: near the floor, the wall under a sill (the room ends at
+#: the wall's inner face, not at the glazing); above door heads (2.0 - 2.1 m), the lintel over a door.
+BRIDGE_HEIGHTS_M = (0.1, 2.25)
+#: Segments closer than this are the same line; ends closer than this meet [m].
+SNAP_M = 1e-3
+#: Closed loops inside a cell smaller than this are furniture, columns or fittings on the room's
+#: floor; larger ones are holes of it (a stair well, a shaft) [m²].
+MIN_HOLE_M2 = 4.0
+#: A cell narrower than twice this (its largest inscribed circle) is the footprint of a wall, a
+#: jamb or a post cut by the plan, not a room [m].
+MIN_ROOM_HALF_WIDTH_M = 0.35
+#: A window's probe goes at most this far into the building past the glazing [m] (the thickest
+#: wall with its reveal, as ``window_margin_m``'s default).
+PROBE_DEPTH_M = 1.2
+
+
+@dataclass
+class Plan:
+    """The plan at one floor level [m, local frame]: the cut ``walls`` (shapely MultiLineString) and
+    the bounded ``cells`` (shapely Polygons, holes smaller than :data:`MIN_HOLE_M2` filled)."""
+
+    floor_z: float
+    walls: object
+    cells: list
+
+
+def _segments(scene: Scene, z: float, layers=(INTERIOR, WINDOW)) -> np.ndarray:
+    """(k, 2, 2) [m]: the segments a horizontal plane at ``z`` cuts from the faces of ``layers``."""
+    tris = scene.faces_of(np.isin(scene.layer, layers))
+    if len(tris) == 0:
+        return np.zeros((0, 2, 2))
+    near = (tris[..., 2].min(axis=1) <= z) & (tris[..., 2].max(axis=1) > z)
+    ok, a, b = cut_triangles(tris[near], np.array([z]))
+    seg = np.stack([a[0][ok[0]], b[0][ok[0]]], axis=1)
+    return seg[np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1) > SNAP_M]
+
+
+def _bridges(lower, segs: np.ndarray, upper: np.ndarray):
+    """The pieces of another cut's segments (``upper``) that close a gap of the plan's walls
+    (``lower``, the union of ``segs``) in their own line: each end of the piece meets a wall
+    segment parallel to it (a lintel over a door, the wall under a sill), not one square to it (a
+    beam, a counter's side)."""
+    import shapely
+
+    if len(upper) == 0 or lower.is_empty:
+        return []
+    gaps = shapely.line_merge(shapely.union_all(shapely.difference(shapely.linestrings(upper), lower.buffer(SNAP_M))))
+    pieces = [g for g in shapely.get_parts(gaps) if g.geom_type == "LineString" and g.length > 10 * SNAP_M]
+    if not pieces:
+        return []
+    a, v = segs[:, 0], segs[:, 1] - segs[:, 0]
+    vlen = np.linalg.norm(v, axis=1)
+    out = []
+    for piece in pieces:  # few pieces per storey: the gaps of its walls
+        c = np.asarray(piece.coords)[[0, -1]]
+        d = (c[1] - c[0]) / max(piece.length, 1e-12)
+        parallel = np.abs(d[0] * v[:, 1] - d[1] * v[:, 0]) < 0.02 * vlen
+        ok = True
+        for end in c:  # the distance from the end to each segment, vectorised
+            t = np.clip(np.einsum("kj,kj->k", end - a, v) / np.maximum(vlen ** 2, 1e-24), 0.0, 1.0)
+            dist = np.linalg.norm(a + t[:, None] * v - end, axis=1)
+            on_line = np.abs((end - a)[:, 0] * v[:, 1] - (end - a)[:, 1] * v[:, 0]) < 2 * SNAP_M * vlen
+            ok &= bool(np.any(parallel & on_line & (dist < 2 * SNAP_M)))
+        if ok:  # the piece stops SNAP_M short of the walls (the buffer): lengthened to cross them
+            out.append(shapely.LineString([c[0] - 3 * SNAP_M * d, c[1] + 3 * SNAP_M * d]))
+    return out
+
+
+def plan_at(scene: Scene, floor_z: float) -> Plan:
+    """The :class:`Plan` of ``scene`` at ``floor_z`` [m, local]."""
+    import shapely
+
+    segs = _segments(scene, floor_z + CUT_HEIGHT_M)
+    if len(segs) == 0:
+        return Plan(floor_z, shapely.MultiLineString(), [])
+    lower = shapely.union_all(shapely.linestrings(segs))
+    walls = shapely.union_all([lower, *(b for h in BRIDGE_HEIGHTS_M for b in _bridges(lower, segs, _segments(scene, floor_z + h)))])
+    noded = shapely.node(shapely.set_precision(walls, SNAP_M / 10))
+    faces = [f for f in shapely.get_parts(shapely.polygonize(shapely.get_parts(noded))) if f.area > 1e-6]
+    # polygonize gives every bounded face, nested ones too: a cell is a face minus the faces inside it
+    faces.sort(key=lambda f: f.area)
+    cells = []
+    for i, f in enumerate(faces):
+        inner = [g for g in faces[:i] if f.contains(g.representative_point()) and f.area > g.area]
+        cell = f.difference(shapely.union_all(inner)) if inner else f
+        cells.append(fill_small_holes(cell))
+    rooms = [c for c in cells if not c.is_empty and c.area > 1e-4
+             and shapely.length(shapely.maximum_inscribed_circle(c, SNAP_M)) >= MIN_ROOM_HALF_WIDTH_M]
+    return Plan(floor_z, walls, rooms)
+
+
+def fill_small_holes(cell):
+    """``cell`` with its holes smaller than :data:`MIN_HOLE_M2` filled (furniture, columns)."""
+    import shapely
+
+    parts = [p for p in shapely.get_parts(cell) if p.geom_type == "Polygon"]
+    if not parts:
+        return shapely.Polygon()
+    p = max(parts, key=lambda q: q.area)  # a cell split by a face touching its outline: its main part
+    holes = [h for h in p.interiors if shapely.Polygon(h).area >= MIN_HOLE_M2]
+    return shapely.Polygon(p.exterior, holes)
+
+
+def window_cell(plan: Plan, window: Window, depth_m: float = PROBE_DEPTH_M) -> tuple[int | None, float, np.ndarray]:
+    """The cell a wall window opens from: probes from its centre along its horizontal normal, on
+    each side, find the first cell within ``depth_m`` [m]; the side with a cell is the room's
+    (outside is no cell). Returns (cell index or None, distance from the glazing to the cell [m],
+    the window's outward horizontal normal). Roof glazing: the cell under its centre."""
+    import shapely
+
+    n = np.asarray(window.normal, float)
+    c = window.centroid[:2]
+    if abs(n[2]) >= 0.5:  # roof light: the cell below it
+        hit = [i for i, cell in enumerate(plan.cells) if cell.contains(shapely.points(c))]
+        return (hit[0] if hit else None), 0.0, np.array([0.0, 0.0])
+    h = n[:2] / max(np.linalg.norm(n[:2]), 1e-12)
+    steps = np.arange(0.005, depth_m + 1e-9, 0.005)
+    best: tuple[int | None, float, np.ndarray] = (None, np.inf, h)
+    cells = np.array(plan.cells, dtype=object)
+    shapely.prepare(cells)
+    for side in (1.0, -1.0):
+        pts = shapely.points(c[None, :] + side * steps[:, None] * h[None, :])
+        for i, cell in enumerate(cells):
+            inside = shapely.contains(cell, pts)
+            if inside.any():
+                d = float(steps[np.argmax(inside)])
+                if d < best[1]:
+                    best = (i, d, -side * h)  # the room lies towards side * h: outward is the other way
+    return best
+
+
+#: A window is a candidate of a level's rooms when the middle of its glazing lies this high above
+#: the floor or lower (and above it): a storey's windows, not those of the storey above [m].
+WINDOW_MID_MAX_M = 2.6
+
+
+def plan_of(scene: Scene, floor_z: float) -> Plan:
+    """:func:`plan_at`, made once per scene and level."""
+    plans = scene.__dict__.setdefault("_plans", {})
+    key = round(float(floor_z), 4)
+    if key not in plans:
+        plans[key] = plan_at(scene, floor_z)
+    return plans[key]
+
+
+def level_windows(scene: Scene, floor_z: float) -> list[Window]:
+    """The windows whose glazing's middle lies between ``floor_z`` and :data:`WINDOW_MID_MAX_M` above it [m, local]."""
+    return [w for w in scene.windows if floor_z < 0.5 * (w.sill_z + w.head_z) <= floor_z + WINDOW_MID_MAX_M]
+
+
+def cells_with_windows(scene: Scene, plan: Plan, windows: list[Window]) -> dict[int, list[Window]]:
+    """Cell index -> the windows (of ``windows``) that open from it (:func:`window_cell`)."""
+    out: dict[int, list[Window]] = {}
+    for w in windows:
+        i, _, _ = window_cell(plan, w)
+        if i is not None:
+            out.setdefault(i, []).append(w)
+    return out
+
+
+def describe(cell, origin) -> str:
+    """``24.0 m² around (3.0, 2.0)`` in the model's coordinates [m]."""
+    c = cell.representative_point()
+    return f"{cell.area:.1f} m² around ({c.x + origin[0]:.1f}, {c.y + origin[1]:.1f})"
+
+
+def room_cell(scene: Scene, spec, floor_z: float, where: str) -> tuple[object, int, Plan] | None:
+    """The region the walls enclose for a room given by name and level: (polygon [m, local], cell
+    index, plan), or None where the model has no walls at that level (the caller then takes the
+    horizontal faces at ``floor_z``). The cell holding ``spec.inside``, else the one the room's
+    windows (its globs, else every window of the level) open from.
+
+    Raises
+    ------
+    InputError
+        ``inside`` in no region; the room's named windows opening from different regions; several
+        regions with windows and nothing to choose between them; windows opening from no region
+        (the walls do not close around them: the gap's position is named).
+    """
+    import fnmatch
+
+    import shapely
+
+    from en17037cli.errors import InputError
+
+    plan = plan_of(scene, floor_z)
+    if not plan.cells:
+        return None
+    if spec.inside is not None:
+        p = shapely.points(np.asarray(spec.inside, float) - scene.origin[:2])
+        hit = [i for i, c in enumerate(plan.cells) if c.contains(p)]
+        if not hit:
+            raise InputError(f"{where}.inside: {list(spec.inside)} lies in no region the walls enclose at floor_z = "
+                             f"{spec.floor_z:g} m (regions: {'; '.join(describe(c, scene.origin) for c in plan.cells[:6])}); "
+                             "move the point into the room, or give floor: [[x, y], ...]")
+        return plan.cells[hit[0]], hit[0], plan
+    named = spec.windows is not None
+    candidates = [w for w in (scene.windows if named else level_windows(scene, floor_z))
+                  if not named or any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
+    by_cell = cells_with_windows(scene, plan, candidates)
+    if len(by_cell) == 1:
+        i = next(iter(by_cell))
+        return plan.cells[i], i, plan
+    if len(by_cell) > 1:
+        regions = "; ".join(f"{describe(plan.cells[i], scene.origin)}: {', '.join(repr(w.name) for w in ws[:3])}"
+                            for i, ws in sorted(by_cell.items()))
+        if named:
+            raise InputError(f"{where}.windows: the windows named open from {len(by_cell)} different rooms ({regions}); "
+                             "name the windows of this room only, or give floor: [[x, y], ...]")
+        raise InputError(f"{where}: the walls enclose {len(by_cell)} rooms with windows at floor_z = {spec.floor_z:g} m "
+                         f"({regions}); name this room's windows (windows: [...]) or give inside: [x, y] (or rooms: "
+                         "[{auto: true, floor_z: ...}] for one room each)")
+    if not candidates:
+        return None  # no window to pick a region by: the caller's rule (and its "no window" problem)
+    gap = leak(scene, plan, candidates[0], floor_z)
+    raise InputError(f"{where}: the walls at floor_z = {spec.floor_z:g} m do not close around window "
+                     f"'{candidates[0].name}'{gap} (an open plan, or a wall missing from the model); give the room's "
+                     "floor: [[x, y], ...], or close the plan in the model")
+
+
+def leak(scene: Scene, plan: Plan, window: Window, floor_z: float) -> str:
+    """Where the region a window opens from runs out of the walls: `` (the walls open near (x, y))``
+    from the horizontal faces at ``floor_z`` (the slab) minus the walls, or "" where the model
+    gives no floor there."""
+    import shapely
+
+    from en17037cli.scene.model import INTERIOR as _INTERIOR
+
+    tris = scene.faces_of(scene.layer == _INTERIOR)
+    flat = np.all(np.abs(tris[..., 2] - floor_z) < 0.02, axis=1)
+    if not flat.any():
+        return ""
+    slab = shapely.union_all(shapely.make_valid(shapely.polygons(tris[flat][..., :2])))
+    free = slab.difference(plan.walls.buffer(0.01))
+    n = np.asarray(window.normal, float)[:2]
+    n = n / max(np.linalg.norm(n), 1e-12)
+    probes = shapely.points(window.centroid[None, :2] + np.outer(np.r_[-1.0, 1.0] * 0.5, n))
+    for part in shapely.get_parts(free):
+        if shapely.contains(part, probes).any():
+            edge = part.exterior.difference(plan.walls.buffer(0.02))
+            if not edge.is_empty:
+                c = edge.centroid
+                return f" (the walls open near ({c.x + scene.origin[0]:.1f}, {c.y + scene.origin[1]:.1f}))"
+    return ""
+
+
+def wall_off(scene: Scene, plan: Plan, window: Window, d: float, outward: np.ndarray) -> str:
+    """Why a wall window's glazing does not sit in its wall's opening, or "": going from the glazing
+    into the room (``d`` [m] to the room's region, against ``outward``), the wall under the sill
+    or over the head (the cuts of :data:`BRIDGE_HEIGHTS_M`) is crossed before the region: the
+    glazing lies outside the wall's outer face."""
+    import shapely
+
+    if d <= 2 * SNAP_M or not np.any(outward):
+        return ""
+    c = window.centroid[:2]
+    ray = shapely.LineString([c, c - d * np.asarray(outward, float)])
+    segs = np.concatenate([_segments(scene, plan.floor_z + h) for h in BRIDGE_HEIGHTS_M])
+    if len(segs) == 0:
+        return ""
+    hits = shapely.intersection(shapely.linestrings(segs), ray)
+    pts = [np.asarray(p.coords)[0] for h in hits if not h.is_empty for p in shapely.get_parts(h) if p.geom_type == "Point"]
+    e = [float(np.linalg.norm(p - c)) for p in pts]
+    e = [x for x in e if 10 * SNAP_M < x < d - 10 * SNAP_M]
+    if not e:
+        return ""
+    off = min(e)
+    return (f"lies {off:.2f} m outside its wall (its glazing {d:.2f} m from the room, the wall {d - off:.2f} m thick): "
+            "glazing belongs in the wall's opening; check the model (a pane moved off its wall) or its layer rules")
