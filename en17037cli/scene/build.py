@@ -87,7 +87,11 @@ def build_scene(project: Project) -> Scene:
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     scene.warnings.extend(check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where))
     for spec in project.rooms:
-        if spec.ifc_spaces is not None or spec.gbxml_spaces is not None:
+        if spec.auto:
+            from en17037cli.scene.auto_rooms import auto_rooms
+
+            scene.rooms.extend(auto_rooms(scene, spec, f"{where}: rooms[{spec.index}]"))
+        elif spec.ifc_spaces is not None or spec.gbxml_spaces is not None:
             scene.rooms.extend(rooms_from_spaces(scene, spec, f"{where}: rooms[{spec.index}]"))
         else:
             scene.rooms.append(make_room(scene, spec, f"{where}: rooms[{spec.index}] '{spec.name}'"))

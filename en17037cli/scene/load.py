@@ -91,6 +91,11 @@ def read_file(i: int, spec: ModelFile, model: ModelSettings, where: str, options
     if mesh.openings_drawn:
         mesh = _cut_drawn_openings(mesh, part_layer, UNIT_SCALE_M[units], spec.display)
     verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
+    if spec.units or mesh.units is None:  # the project gives the unit: is the model plausible in it?
+        from en17037cli.scene.units import check_units
+
+        check_units(verts, mesh.triangles, mesh.part, part_layer, WINDOW, (INTERIOR, WINDOW), units,
+                    f"model.files[{i}].units" if spec.units else "model.units", f"{where}: model.files[{i}] ({spec.display})")
     warnings.extend(unmatched)
     return LoadedFile(i, spec, mesh, verts, part_layer, part_sun, assign_optics(spec, mesh, spec.path.stem))
 

@@ -147,18 +147,27 @@ def window_cell(plan: Plan, window: Window, depth_m: float = PROBE_DEPTH_M) -> t
         return (hit[0] if hit else None), 0.0, np.array([0.0, 0.0])
     h = n[:2] / max(np.linalg.norm(n[:2]), 1e-12)
     steps = np.arange(0.005, depth_m + 1e-9, 0.005)
-    best: tuple[int | None, float, np.ndarray] = (None, np.inf, h)
     cells = np.array(plan.cells, dtype=object)
     shapely.prepare(cells)
+    first: dict[float, tuple[int | None, float, float]] = {}
     for side in (1.0, -1.0):
         pts = shapely.points(c[None, :] + side * steps[:, None] * h[None, :])
+        hit: tuple[int | None, float, float] = (None, np.inf, np.inf)
         for i, cell in enumerate(cells):
             inside = shapely.contains(cell, pts)
-            if inside.any():
-                d = float(steps[np.argmax(inside)])
-                if d < best[1]:
-                    best = (i, d, -side * h)  # the room lies towards side * h: outward is the other way
-    return best
+            if inside.any() and steps[np.argmax(inside)] < hit[1]:
+                k = int(np.argmax(inside))
+                out = np.flatnonzero(~inside[k:])
+                hit = (i, float(steps[k]), float(steps[k + out[0]]) if len(out) else np.inf)  # (cell, in at, out at)
+        first[side] = hit
+    (ip, dp, op), (im, dm, om) = first[1.0], first[-1.0]
+    if ip is not None and ip == im and max(dp, dm) <= 0.011:  # the glazing inside its cell (an inner pane):
+        side = 1.0 if op < om else -1.0  # the outside is where the cell ends first
+        return ip, 0.0, side * h
+    if ip is None and im is None:
+        return None, np.inf, h
+    side = 1.0 if dp <= dm else -1.0
+    return first[side][0], first[side][1], -side * h  # the room lies towards side * h: outward is the other way
 
 
 #: A window is a candidate of a level's rooms when the middle of its glazing lies this high above
