@@ -35,6 +35,9 @@ CUT_HEIGHT_M = 1.2
 BRIDGE_HEIGHTS_M = (0.1, 2.25)
 #: Segments closer than this are the same line; ends closer than this meet [m].
 SNAP_M = 1e-3
+#: The plan's coordinates are rounded to this grid before noding (robust intersections) [m]: a
+#: micron, far below any drawing's precision, so a derived floor stays where the walls are.
+PRECISION_M = 1e-6
 #: Closed loops inside a cell smaller than this are furniture, columns or fittings on the room's
 #: floor; larger ones are holes of it (a stair well, a shaft) [m²].
 MIN_HOLE_M2 = 4.0
@@ -107,7 +110,7 @@ def plan_at(scene: Scene, floor_z: float) -> Plan:
         return Plan(floor_z, shapely.MultiLineString(), [])
     lower = shapely.union_all(shapely.linestrings(segs))
     walls = shapely.union_all([lower, *(b for h in BRIDGE_HEIGHTS_M for b in _bridges(lower, segs, _segments(scene, floor_z + h)))])
-    noded = shapely.node(shapely.set_precision(walls, SNAP_M / 10))
+    noded = shapely.node(shapely.set_precision(walls, PRECISION_M))
     faces = [f for f in shapely.get_parts(shapely.polygonize(shapely.get_parts(noded))) if f.area > 1e-6]
     # polygonize gives every bounded face, nested ones too: a cell is a face minus the faces inside it
     faces.sort(key=lambda f: f.area)
@@ -207,8 +210,8 @@ def describe(cell, origin) -> str:
 
 def room_cell(scene: Scene, spec, floor_z: float, where: str) -> tuple[object, int, Plan] | None:
     """The region the walls enclose for a room given by name and level: (polygon [m, local], cell
-    index, plan), or None where the model has no walls at that level (the caller then takes the
-    horizontal faces at ``floor_z``). The cell holding ``spec.inside``, else the one the room's
+    index, plan), or None where the model has no wall at that level's eye height (the caller then
+    takes the horizontal faces at ``floor_z``) or the room has no window to pick a region by. The cell holding ``spec.inside``, else the one the room's
     windows (its globs, else every window of the level) open from.
 
     Raises
@@ -225,8 +228,8 @@ def room_cell(scene: Scene, spec, floor_z: float, where: str) -> tuple[object, i
     from en17037cli.errors import InputError
 
     plan = plan_of(scene, floor_z)
-    if not plan.cells:
-        return None
+    if plan.walls.is_empty:
+        return None  # no wall at eye height: the floor is the horizontal faces (the caller's rule)
     if spec.inside is not None:
         p = shapely.points(np.asarray(spec.inside, float) - scene.origin[:2])
         hit = [i for i, c in enumerate(plan.cells) if c.contains(p)]

@@ -1,0 +1,135 @@
+"""Hand-built models read as a person would (issue 27): flats modelled the usual way in SketchUp,
+Rhino or Blender (walls as box solids with their bottom faces, lintels and sills, slabs, a beam,
+furniture, a stair, a door in a partition, a neighbour), rooms declared by name and level only.
+Every expected value is known by construction (en17037cli/samples/flat.py): the floor areas
+24.0 and 11.7 m², the ceiling 2.7 m above the floor, the windows of each room."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from en17037cli.errors import InputError
+from en17037cli.project import load_project
+from en17037cli.samples.box import write_obj
+from en17037cli.samples.flat import STOREY_M, Flat, flat_polygons, room_truth
+from en17037cli.scene.build import build_scene
+
+LAYERS = [{"match": "glass*", "layer": "window"}, {"match": "ground", "layer": "ground"},
+          {"match": "neighbour", "layer": "landscape"}, {"match": "*", "layer": "interior"}]
+UNIT_M = {"m": 1.0, "mm": 0.001, "in": 0.0254}
+
+
+def project(tmp: Path, flat: Flat, rooms: list, units: str = "m", written_in: str = "m", y_up: bool = False) -> Path:
+    """The flat written as one OBJ in ``written_in`` units (y-up if asked) and a project declaring ``units``."""
+    objects = flat_polygons(flat)
+    scale = 1.0 / UNIT_M[written_in]
+    if y_up:  # Blender's y-up export of a z-up model: (x, y, z) -> (x, z, -y)
+        objects = {k: [[(x, z, -y) for x, y, z in poly] for poly in v] for k, v in objects.items()}
+    tmp.mkdir(parents=True, exist_ok=True)
+    write_obj(tmp / "flat.obj", objects, scale=scale)
+    doc = {"version": 1, "name": "flat", "model": {"units": units, "up_axis": "y" if y_up else "z",
+                                                   "files": [{"path": "flat.obj", "layers": LAYERS}]},
+           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
+           "rooms": rooms, "view": {}, "sunlight": {}, "requirements": {"view": "minimum", "sunlight": "minimum"}}
+    (tmp / "project.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    return tmp / "project.yaml"
+
+
+def rooms_of(path: Path) -> dict:
+    scene = build_scene(load_project(path))
+    return {r.name: r for r in scene.rooms}, scene
+
+
+def assert_room(room, name: str, storey: int = 0):
+    area, height, windows = room_truth(name, storey)
+    assert abs(room.floor.area - area) <= 0.01 * area, (room.name, room.floor.area, area)
+    assert abs((room.ceiling_z - room.floor_z) - height) <= 0.01, (room.name, room.ceiling_z - room.floor_z)
+    assert tuple(sorted(w.name for w in room.windows)) == windows, room.name
+
+
+NAMED = [{"name": "living", "floor_z": 0, "windows": ["glass living*"]},
+         {"name": "bedroom", "floor_z": 0, "windows": ["glass bedroom*"]}]
+
+
+def test_each_room_gets_its_own_floor_ceiling_and_windows(tmp_path):
+    """The L-shaped flat of the issue: before, both rooms got the whole flat's floor (the slab's top
+    and every wall's bottom face at floor_z: 44.31 m²) and the door lintel's underside as ceiling (2.1 m)."""
+    rooms, _ = rooms_of(project(tmp_path, Flat(), NAMED))
+    assert_room(rooms["living"], "living")
+    assert_room(rooms["bedroom"], "bedroom")
+    living = rooms["living"]
+    assert {w.name: tuple(np.round(w.normal, 6)) for w in living.windows} == {
+        "glass living south": (0.0, -1.0, 0.0), "glass living east": (1.0, 0.0, 0.0)}
+
+
+def test_a_point_inside_picks_the_room_and_nothing_picks_none(tmp_path):
+    rooms, _ = rooms_of(project(tmp_path / "a", Flat(), [{"name": "bedroom", "floor_z": 0, "inside": [2.0, 6.0]}]))
+    assert_room(rooms["bedroom"], "bedroom")
+    with pytest.raises(InputError, match=r"the walls enclose 2 rooms with windows at floor_z = 0 m .*inside: \[x, y\]"):
+        rooms_of(project(tmp_path / "b", Flat(), [{"name": "room", "floor_z": 0}]))
+
+
+def test_two_storeys_of_wall_solids_with_auto_rooms(tmp_path):
+    rooms, _ = rooms_of(project(tmp_path, Flat(storeys=2), [{"auto": True}]))
+    assert len(rooms) == 4
+    for storey in (0, 1):
+        here = {r.name: r for r in rooms.values() if abs(r.floor_z + 0 - (storey * STOREY_M - 0)) < 10}
+        assert here
+    by_level: dict = {}
+    scene_rooms = list(rooms.values())
+    for r in scene_rooms:
+        by_level.setdefault(round(float(r.spec.floor_z), 3), []).append(r)
+    assert sorted(by_level) == [0.0, STOREY_M]
+    for storey, z in enumerate(sorted(by_level)):
+        got = sorted(by_level[z], key=lambda r: r.floor.area)
+        assert_room(got[0], "bedroom", storey)
+        assert_room(got[1], "living", storey)
+
+
+def test_auto_at_one_level_and_names_that_do_not_move(tmp_path):
+    a, _ = rooms_of(project(tmp_path / "a", Flat(storeys=2), [{"auto": True, "floor_z": 3.0}]))
+    b, _ = rooms_of(project(tmp_path / "b", Flat(storeys=2), [{"auto": True, "floor_z": 3.0}]))
+    assert list(a) == list(b) and len(a) == 2 and all(n.startswith("z 3.00 room at (") for n in a)
+
+
+def test_a_y_up_export_reads_the_same(tmp_path):
+    rooms, _ = rooms_of(project(tmp_path, Flat(furniture=False), NAMED, y_up=True))
+    assert_room(rooms["living"], "living")
+    assert_room(rooms["bedroom"], "bedroom")
+
+
+def test_sketchup_inches_read_right_when_declared(tmp_path):
+    rooms, _ = rooms_of(project(tmp_path, Flat(), NAMED, units="in", written_in="in"))
+    assert_room(rooms["living"], "living")
+
+
+@pytest.mark.parametrize("written, declared, looks", [("mm", "m", "mm"), ("in", "m", "in"), ("m", "mm", "m")])
+def test_a_model_in_another_unit_than_declared_is_an_error_naming_the_unit(tmp_path, written, declared, looks):
+    path = project(tmp_path, Flat(), NAMED, units=declared, written_in=written)
+    with pytest.raises(InputError, match=rf"model.files\[0\] \(flat.obj\): its windows are .* m tall read in {declared} "
+                                         rf"\(model.units\), not a building's size; it looks like {looks} .*set model.units: {looks}"):
+        load_project(path) and build_scene(load_project(path))
+
+
+def test_glazing_off_its_wall_is_a_warning_naming_window_and_room(tmp_path):
+    rooms, scene = rooms_of(project(tmp_path, Flat(glazing_offset_m=0.5), NAMED))
+    warn = [w for w in scene.warnings if "glass living south" in w]
+    assert len(warn) == 1 and "of room 'living' lies 0.50 m outside its wall" in warn[0], scene.warnings
+    assert "the wall 0.30 m thick" in warn[0]
+    clean = rooms_of(project(tmp_path / "ok", Flat(), NAMED))[1]
+    assert not [w for w in clean.warnings if "outside its wall" in w]
+
+
+def test_a_glob_picking_another_rooms_window_is_an_error(tmp_path):
+    rooms = [{"name": "living", "floor_z": 0, "windows": ["glass living*", "glass bedroom north"]}]
+    with pytest.raises(InputError, match=r"rooms\[0\] 'living'\.windows: the windows named open from 2 different rooms"):
+        rooms_of(project(tmp_path, Flat(), rooms))
+
+
+def test_an_open_plan_is_an_error_naming_the_gap(tmp_path):
+    with pytest.raises(InputError, match=r"the walls at floor_z = 0 m do not close around window 'glass .*' "
+                                         r"\(the walls open near \(-0\.\d, \d\.\d\)\).*give the room's floor"):
+        rooms_of(project(tmp_path, Flat(west_wall=False), NAMED))
