@@ -250,7 +250,10 @@ def _exit_on_sigterm():
 @max_points_option
 @click.option("--objects", is_flag=True, help="Also list every object (part) of the model with its layer and faces.")
 @click.option("--json", "as_json", is_flag=True, help="Print the findings as one JSON document on stdout (for scripts).")
-def validate(project_file: Path, overrides, max_points, objects, as_json):
+@click.option("--plan", "plan_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Draw each storey's plan as read into this folder: walls cut at eye height, each room's floor, "
+                   "windows, viewpoints and points P (one PNG per floor level; needs matplotlib).")
+def validate(project_file: Path, overrides, max_points, objects, as_json, plan_dir):
     """Check PROJECT_FILE and its geometry as `check` would, without running the criteria.
 
     Prints faces per layer, each room's floor, ceiling and the windows that bound it (and why),
@@ -266,8 +269,15 @@ def validate(project_file: Path, overrides, max_points, objects, as_json):
         project = load_project(project_file, list(overrides))
         scene = build_scene(project)
         with RayEngine(scene.vertices, scene.triangles, scene.ray_groups()) as engine:
-            return project, scene, preflight(Context(project, scene, engine), max_points or MAX_POINTS)
+            ctx = Context(project, scene, engine)
+            pf = preflight(ctx, max_points or MAX_POINTS)
+            if plan_dir is not None:
+                from en17037cli.plan_pictures import draw_understood
 
+                plans.extend(draw_understood(ctx, plan_dir))
+            return project, scene, pf
+
+    plans: list[str] = []
     project, scene, pf = guard(run)
     if as_json:
         from en17037cli.report.validation import validation_document
@@ -318,6 +328,8 @@ def validate(project_file: Path, overrides, max_points, objects, as_json):
         click.echo(f"warning: {note}", err=True)
     for note in scene.notes:
         click.echo(f"note: {note}", err=True)
+    for path in plans:
+        click.echo(f"plan as read: {path}")
     if objects:
         list_objects(scene)
 

@@ -87,7 +87,7 @@ def test_validate_lists_each_rooms_windows_and_why(tmp_path):
     assert r.exit_code == 0, r.output
     out = r.output
     # the ground-floor room does not take the window of the room above (z 3.8 to 5.2 m)
-    assert "room '1.S01': floor 19.50 m² at z 0.000 m (given), ceiling at z 2.999 m (the lowest horizontal interior face over the floor), 1 window(s)" in out
+    assert "room '1.S01': floor 19.50 m² at z 0.000 m (given), ceiling at z 2.999 m (the lowest horizontal interior faces over the floor covering 100% of it), 1 window(s)" in out
     assert "  window 'W 1.S01': 2.800 m², outward normal (0.0000, -1.0000, 0.0000), 2 faces; bounds the room: 100% of its width within 1.2 m of the floor outline, z 0.80 to 2.20 m" in out
     assert "  window 'W 2.N01': 2.800 m², outward normal (0.0000, 1.0000, 0.0000), 2 faces; bounds the room: 100% of its width within 1.2 m of the floor outline, z 3.80 to 5.20 m" in out
 
@@ -95,7 +95,7 @@ def test_validate_lists_each_rooms_windows_and_why(tmp_path):
 def test_several_floors_at_floor_z_need_a_floor_or_the_windows(tmp_path):
     path = block_project(tmp_path / "b", Block(), rooms=["1.N01"], view=None, sunlight=SUN)
     edit(path, lambda d: d["rooms"][0].pop("floor"))
-    one_line_error(invoke("check", path, "-q"), "rooms[0] '1.N01': 2 separate floors at floor_z; give 'floor' as a polygon")
+    one_line_error(invoke("check", path, "-q"), "rooms[0] '1.N01': the walls enclose 2 rooms with windows at floor_z = 0 m")
     edit(path, lambda d: d["rooms"][0].update(windows=["W 1.N*"]))  # the floor beside the named window
     assert invoke("check", path, "-q", "--out", tmp_path / "o").exit_code == 1  # a north room: no sun in February
     assert json.loads((tmp_path / "o" / "report.json").read_text())["rooms"][0]["floor_area_m2"] == 19.5

@@ -38,6 +38,9 @@ SNAP_M = 1e-3
 #: The plan's coordinates are rounded to this grid before noding (robust intersections) [m]: a
 #: micron, far below any drawing's precision, so a derived floor stays where the walls are.
 PRECISION_M = 1e-6
+#: Gaps between wall pieces narrower than this close (a drawing's tolerance: a pane a few mm
+#: short of its jambs, ends that do not meet) [m].
+GAP_M = 0.02
 #: Closed loops inside a cell smaller than this are furniture, columns or fittings on the room's
 #: floor; larger ones are holes of it (a stair well, a shaft) [m²].
 MIN_HOLE_M2 = 4.0
@@ -110,15 +113,13 @@ def plan_at(scene: Scene, floor_z: float) -> Plan:
         return Plan(floor_z, shapely.MultiLineString(), [])
     lower = shapely.union_all(shapely.linestrings(segs))
     walls = shapely.union_all([lower, *(b for h in BRIDGE_HEIGHTS_M for b in _bridges(lower, segs, _segments(scene, floor_z + h)))])
-    noded = shapely.node(shapely.set_precision(walls, PRECISION_M))
-    faces = [f for f in shapely.get_parts(shapely.polygonize(shapely.get_parts(noded))) if f.area > 1e-6]
-    # polygonize gives every bounded face, nested ones too: a cell is a face minus the faces inside it
-    faces.sort(key=lambda f: f.area)
-    cells = []
-    for i, f in enumerate(faces):
-        inner = [g for g in faces[:i] if f.contains(g.representative_point()) and f.area > g.area]
-        cell = f.difference(shapely.union_all(inner)) if inner else f
-        cells.append(fill_small_holes(cell))
+    # the walls thickened by half a gap each side: gaps of a drawing's tolerance close, lines need not
+    # be noded; each free region off the outside, grown back by as much, is a cell
+    thick = shapely.set_precision(walls, PRECISION_M).buffer(GAP_M / 2, cap_style="square", join_style="mitre")
+    x0, y0, x1, y1 = thick.bounds
+    outside = shapely.box(x0 - 1.0, y0 - 1.0, x1 + 1.0, y1 + 1.0)
+    free = [p for p in shapely.get_parts(outside.difference(thick)) if not p.intersects(outside.exterior)]
+    cells = [fill_small_holes(p.buffer(GAP_M / 2, join_style="mitre")) for p in free]
     rooms = [c for c in cells if not c.is_empty and c.area > 1e-4
              and shapely.length(shapely.maximum_inscribed_circle(c, SNAP_M)) >= MIN_ROOM_HALF_WIDTH_M]
     return Plan(floor_z, walls, rooms)
@@ -228,7 +229,7 @@ def room_cell(scene: Scene, spec, floor_z: float, where: str) -> tuple[object, i
     from en17037cli.errors import InputError
 
     plan = plan_of(scene, floor_z)
-    if plan.walls.is_empty:
+    if not len(_segments(scene, floor_z + CUT_HEIGHT_M, (INTERIOR,))):
         return None  # no wall at eye height: the floor is the horizontal faces (the caller's rule)
     if spec.inside is not None:
         p = shapely.points(np.asarray(spec.inside, float) - scene.origin[:2])

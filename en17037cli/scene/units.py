@@ -11,7 +11,7 @@ from en17037cli.errors import InputError
 #: The units a project may give [m per unit] (the project schema's model.units).
 UNIT_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048, "in": 0.0254}
 #: Window heights (the median over a file's window objects) a building can have [m] ...
-WINDOW_PLAUSIBLE_M = (0.1, 12.0)
+WINDOW_PLAUSIBLE_M = (0.005, 12.0)  # a 1 cm peephole is odd, not a unit; 1.4 mm is
 #: ... and the range a re-read unit must bring them into, the most likely nearest :data:`WINDOW_TYPICAL_M`.
 WINDOW_LIKELY_M, WINDOW_TYPICAL_M = (0.3, 4.0), 1.4
 #: The size of the building checked (its interior and window faces, their largest extent) [m]:
