@@ -133,3 +133,19 @@ def test_an_open_plan_is_an_error_naming_the_gap(tmp_path):
     with pytest.raises(InputError, match=r"the walls at floor_z = 0 m do not close around window 'glass .*' "
                                          r"\(the walls open near \(-0\.\d, \d\.\d\)\).*give the room's floor"):
         rooms_of(project(tmp_path, Flat(west_wall=False), NAMED))
+
+
+def test_validate_draws_each_storey_as_read(tmp_path):
+    """``validate --plan DIR``: one picture per floor level, named by it."""
+    import subprocess
+    import sys
+
+    pytest.importorskip("matplotlib")
+    path = project(tmp_path, Flat(storeys=2), [{"auto": True}])
+    proc = subprocess.run([sys.executable, "-m", "en17037cli", "validate", str(path), "--plan", str(tmp_path / "plan")],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    pngs = sorted(p.name for p in (tmp_path / "plan").glob("*.png"))
+    assert pngs == ["plan-z0.00.png", "plan-z3.00.png"]
+    assert proc.stdout.count("plan as read: ") == 2
+    assert all((tmp_path / "plan" / p).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in pngs)

@@ -236,7 +236,7 @@ def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, pla
     those that open from that region (a probe from the glazing into the building meets it first)
     with half their height between floor and ceiling; a window named by the spec's globs that
     opens from another region, or from none, is an input error naming both."""
-    from en17037cli.scene.section import window_cell, wall_off
+    from en17037cli.scene.section import wall_off, window_cell
 
     windows, reasons = [], {}
     for w in scene.windows:

@@ -171,7 +171,9 @@ def window_cell(plan: Plan, window: Window, depth_m: float = PROBE_DEPTH_M) -> t
     if ip is None and im is None:
         return None, np.inf, h
     side = 1.0 if dp <= dm else -1.0
-    return first[side][0], first[side][1], -side * h  # the room lies towards side * h: outward is the other way
+    i = first[side][0]
+    d = float(plan.cells[i].distance(shapely.Point(c)))  # exact, not the probe's 5 mm step
+    return i, d, -side * h  # the room lies towards side * h: outward is the other way
 
 
 #: A window is a candidate of a level's rooms when the middle of its glazing lies this high above
