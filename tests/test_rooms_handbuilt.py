@@ -149,3 +149,25 @@ def test_validate_draws_each_storey_as_read(tmp_path):
     assert pngs == ["plan-z0.00.png", "plan-z3.00.png"]
     assert proc.stdout.count("plan as read: ") == 2
     assert all((tmp_path / "plan" / p).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in pngs)
+
+
+def test_a_gltf_from_blender_reads_the_same(tmp_path):
+    """Blender's glTF export: y-up metres by the format, one named node per object."""
+    trimesh = pytest.importorskip("trimesh")
+    scene = trimesh.Scene()
+    for name, polys in flat_polygons(Flat()).items():
+        verts, faces = [], []
+        for poly in polys:
+            k = len(verts)
+            verts += [(x, z, -y) for x, y, z in poly]  # z-up -> glTF's y-up
+            faces += [(k, k + i, k + i + 1) for i in range(1, len(poly) - 1)]
+        scene.add_geometry(trimesh.Trimesh(np.array(verts), np.array(faces), process=False), node_name=name, geom_name=name)
+    tmp_path.mkdir(exist_ok=True)
+    (tmp_path / "flat.glb").write_bytes(scene.export(file_type="glb"))
+    doc = {"version": 1, "name": "flat", "model": {"files": [{"path": "flat.glb", "layers": LAYERS}]},
+           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"}, "rooms": NAMED,
+           "view": {}, "sunlight": {}}
+    (tmp_path / "project.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    rooms, _ = rooms_of(tmp_path / "project.yaml")
+    assert_room(rooms["living"], "living")
+    assert_room(rooms["bedroom"], "bedroom")
