@@ -231,3 +231,16 @@ def test_rotated_insert_keeps_float64_far_from_the_origin(tmp_path):
     expect = {(389500.125 + x * c - y * s, 5819600.25 + x * s + y * c, 34.0) for x, y in ((0, 0), (1, 0), (1, 1), (0, 1))}
     got = {tuple(v) for v in m.vertices.tolist()}
     assert len(got) == 4 and all(min(np.hypot(g[0] - e[0], g[1] - e[1]) for g in got) < 1e-9 for e in expect)
+
+
+REAL = Path(__file__).resolve().parents[3] / "shared" / "data" / "real-models"
+
+
+@pytest.mark.skipif(not any(REAL.glob("*.dxf")), reason="no real DXF in ../shared/data/real-models yet")
+@pytest.mark.parametrize("path", sorted(REAL.glob("*.dxf")), ids=lambda p: p.name)
+def test_every_real_dxf_of_the_corpus_reads(path):
+    """Any real DXF put in ../shared/data/real-models is read as a user would: faces, a summary
+    line, and either glazing on the window layer or a note saying why none is."""
+    m = read_model(path, ReadOptions())
+    assert len(m.triangles) > 0 and m.summary
+    assert any(q.layer == "window" for q in m.parts) or m.notes or m.warnings
