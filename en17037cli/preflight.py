@@ -15,10 +15,11 @@ from en17037cli.criteria import CRITERIA, Context
 from en17037cli.criteria.view.viewpoints import grid_lines, grid_tolerance
 from en17037cli.dwellings import group_dwellings
 from en17037cli.errors import InputError
-from en17037cli.geometry import points_in_triangles, window_axes
+from en17037cli.geometry import window_axes
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import Scene, room_window_group
+from en17037cli.scene.windows import glazing_grid
 
 #: Default budget: viewpoints of a run (all rooms and eye heights). A viewpoint's results take
 #: about 10 kB in memory and in report.json, so this keeps a check within about 2 GB.
@@ -100,19 +101,6 @@ def check_budget(project: Project, scene: Scene, max_points: int) -> tuple[int, 
     return points, cells
 
 
-def sample_points(window, n: int = 3) -> np.ndarray:
-    """Up to n x n points [m] spread over a window's glazing (a grid over its bounding box in its
-    plane, inset by a sixth, kept where it lies on the glazing)."""
-    a, up = window_axes(window.normal)
-    rel = window.triangles - window.centroid
-    x, y = rel @ a, rel @ up
-    gx = np.linspace(x.min(), x.max(), 2 * n + 1)[1::2]
-    gy = np.linspace(y.min(), y.max(), 2 * n + 1)[1::2]
-    X, Y = (g.ravel() for g in np.meshgrid(gx, gy))
-    inside = points_in_triangles(np.column_stack([X, Y]), np.stack([x, y], axis=-1))
-    return window.centroid + X[inside, None] * a + Y[inside, None] * up
-
-
 def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
     """Warnings for windows through which no ray from the room leaves: rays from 0.3, 1 and 2 m
     inside the room, straight and at 30 degrees, through points spread over the glazing."""
@@ -125,7 +113,7 @@ def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
         for w in room.windows:  # a few rays per window
             n = np.asarray(w.normal, float)
             a, up = window_axes(n)
-            targets = sample_points(w)
+            targets = glazing_grid(w, 3)
             dirs = np.array([n, np.cos(tilt) * n + np.sin(tilt) * a, np.cos(tilt) * n - np.sin(tilt) * a,
                              np.cos(tilt) * n + np.sin(tilt) * up, np.cos(tilt) * n - np.sin(tilt) * up])
             o = (targets[:, None, None, :] - np.array([0.3, 1.0, 2.0])[None, :, None, None] * dirs[None, None, :, :]).reshape(-1, 3)

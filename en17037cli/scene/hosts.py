@@ -48,6 +48,17 @@ def host_faces(scene: Scene, window: Window) -> np.ndarray:
     return faces[near]
 
 
+def _parallel(scene: Scene, window: Window, faces: np.ndarray) -> np.ndarray | None:
+    """(k, 3, 3) [m]: the triangles of ``faces`` parallel to the glazing (within
+    :data:`HOST_PARALLEL_DEG`, zero-area ones left out), or None where there are none."""
+    if len(faces) == 0:
+        return None
+    tri = scene.vertices[scene.triangles[faces]]
+    normals, areas = triangle_normals(tri)
+    par = (np.abs(normals @ np.asarray(window.normal, float)) >= np.cos(np.radians(HOST_PARALLEL_DEG))) & (areas > 0)
+    return tri[par] if par.any() else None
+
+
 def host_depths(scene: Scene, window: Window) -> tuple[float, float] | None:
     """How far the host (and the window's own frame) reaches from the glazing's plane [m] on the
     side the normal points to and on the other: (front, back), each >= 0; None without a host.
@@ -55,16 +66,11 @@ def host_depths(scene: Scene, window: Window) -> tuple[float, float] | None:
     From the vertices of the host's faces parallel to the glazing (within :data:`HOST_PARALLEL_DEG`)
     near it: the wall's outer and inner faces (a roof light's curb and the roof's underside).
     """
-    faces = host_faces(scene, window)
-    if len(faces) == 0:
+    par = _parallel(scene, window, host_faces(scene, window))
+    if par is None:
         return None
     n = np.asarray(window.normal, float)
-    tri = scene.vertices[scene.triangles[faces]]
-    normals, areas = triangle_normals(tri)
-    par = (np.abs(normals @ n) >= np.cos(np.radians(HOST_PARALLEL_DEG))) & (areas > 0)
-    if not par.any():
-        return None
-    off = tri[par].reshape(-1, 3) @ n - window.centroid @ n
+    off = par.reshape(-1, 3) @ n - window.centroid @ n
     return max(float(off.max()), 0.0), max(float(-off.min()), 0.0)
 
 
@@ -80,14 +86,9 @@ def reveal_depth_from_host(scene: Scene, window: Window, point: np.ndarray, max_
     if own is not None and len(faces):
         mine = np.array([scene.parts[p].attrs.get("id") == own for p in scene.part[faces]], bool)
         faces = faces[~mine]
-    if len(faces) == 0:
+    par = _parallel(scene, window, faces)
+    if par is None:
         return None
-    n = np.asarray(window.normal, float)
-    tri = scene.vertices[scene.triangles[faces]]
-    normals, areas = triangle_normals(tri)
-    par = (np.abs(normals @ n) >= np.cos(np.radians(HOST_PARALLEL_DEG))) & (areas > 0)
-    if not par.any():
-        return None
-    depth = (np.asarray(point, float) - tri[par].mean(axis=1)) @ n  # > 0: behind the glazing, on the room's side
+    depth = (np.asarray(point, float) - par.mean(axis=1)) @ np.asarray(window.normal, float)  # > 0: behind the glazing, on the room's side
     depth = depth[(depth > 0) & (depth <= max_depth)]
     return float(depth.max()) if len(depth) else 0.0

@@ -34,12 +34,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.geometry import points_in_triangles, window_axes
 from en17037cli.io.mesh import Space
 from en17037cli.project.settings import RoomSpec
 from en17037cli.scene.hosts import host_depths
 from en17037cli.scene.model import LeftOut, Room, Scene, Window
 from en17037cli.scene.rooms import make_room
+from en17037cli.scene.windows import glazing_grid
 
 #: A space counts as the one a window opens into when it lies this far beyond the host's depth at most [m]
 #: (finishes, a space drawn short of the wall's face).
@@ -116,17 +116,11 @@ def ray_distances(origins: np.ndarray, d: np.ndarray, tri: np.ndarray) -> np.nda
 def glazing_samples(window: Window, n: int = SAMPLES) -> np.ndarray:
     """Up to n x n points [m] on the glazing: a grid over its extent in its plane, inset by half a
     step, kept where it lies on the glazing (else the triangles' centroids)."""
-    a, up = window_axes(window.normal)
-    rel = window.triangles - window.centroid
-    x, y = rel @ a, rel @ up
-    gx = np.linspace(x.min(), x.max(), 2 * n + 1)[1::2]
-    gy = np.linspace(y.min(), y.max(), 2 * n + 1)[1::2]
-    X, Y = (g.ravel() for g in np.meshgrid(gx, gy))
-    inside = points_in_triangles(np.column_stack([X, Y]), np.stack([x, y], axis=-1))
-    if not inside.any():
+    grid = glazing_grid(window, n)
+    if not len(grid):
         return window.triangles.mean(axis=1)
     plane = window.triangles.reshape(-1, 3) @ window.normal  # a stepped pane: the points on its mean plane
-    return window.centroid + X[inside, None] * a + Y[inside, None] * up + (plane.mean() - window.centroid @ window.normal) * window.normal
+    return grid + (plane.mean() - window.centroid @ window.normal) * window.normal
 
 
 def _entries(samples: np.ndarray, d: np.ndarray, bodies: list[np.ndarray], allowed: float) -> np.ndarray:

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.geometry import triangle_normals, window_axes
+from en17037cli.geometry import points_in_triangles, triangle_normals, window_axes
 from en17037cli.geometry.topology import connected_components, shared_edges, weld
 from en17037cli.io.mesh import Part
 from en17037cli.scene.model import WINDOW, Window
@@ -280,3 +280,16 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window],
                 f"{UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covering {share} of it: no ray could pass; cut the "
                 "opening in that wall, or move the glazing off the wall plane")
     return warnings
+
+
+def glazing_grid(window: Window, n: int) -> np.ndarray:
+    """Up to n x n points [m] spread over a window's glazing: a grid over its extent in its plane,
+    inset by half a step, kept where it lies on the glazing (possibly none)."""
+    a, up = window_axes(window.normal)
+    rel = window.triangles - window.centroid
+    x, y = rel @ a, rel @ up
+    gx = np.linspace(x.min(), x.max(), 2 * n + 1)[1::2]
+    gy = np.linspace(y.min(), y.max(), 2 * n + 1)[1::2]
+    X, Y = (g.ravel() for g in np.meshgrid(gx, gy))
+    inside = points_in_triangles(np.column_stack([X, Y]), np.stack([x, y], axis=-1))
+    return window.centroid + X[inside, None] * a + Y[inside, None] * up
