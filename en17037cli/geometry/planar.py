@@ -125,3 +125,64 @@ def cut_triangles(tri: np.ndarray, z: np.ndarray):
     a = np.take_along_axis(xy, first[..., None, None], axis=-2)[..., 0, :]
     b = np.take_along_axis(xy, second[..., None, None], axis=-2)[..., 0, :]
     return ok, a, b
+
+
+def convex_halfplanes(ring: np.ndarray) -> np.ndarray:
+    """Half-planes of a convex polygon: (e, 3) rows (a, b, c), a x + b y + c >= 0 inside, (a, b)
+    a unit vector, so a x + b y + c is the signed distance from the edge's line [same unit as
+    ``ring``].
+
+    Parameters
+    ----------
+    ring : (n, 2) float, the polygon's vertices counterclockwise, not closed
+    """
+    p, q = ring, np.roll(ring, -1, axis=0)
+    d = q - p
+    length = np.hypot(d[:, 0], d[:, 1])
+    keep = length > 0
+    p, d, length = p[keep], d[keep], length[keep]
+    a, b = -d[:, 1] / length, d[:, 0] / length  # the inward normal of a counterclockwise ring
+    return np.column_stack([a, b, -(a * p[:, 0] + b * p[:, 1])])
+
+
+def points_in_convex(hp: np.ndarray, x, y, tol: float) -> np.ndarray:
+    """Whether points lie in a convex polygon given by :func:`convex_halfplanes` (its edges, and
+    ``tol`` beyond them, included). x, y: (m,) float; returns (m,) bool."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    inside = np.ones(x.shape, dtype=bool)
+    for a, b, c in hp:  # over the polygon's edges, vectorised over points
+        inside &= a * x + b * y + c >= -tol
+    return inside
+
+
+def boxes_vs_convex(hp: np.ndarray, extent, x0, x1, y0, y1, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where axis-aligned boxes lie against a convex polygon (:func:`convex_halfplanes`).
+
+    A box lies inside a convex polygon exactly when its four corners do; it is disjoint from it
+    exactly when one of the two shapes' edge normals separates them (the separating axis theorem):
+    the box's own axes against the polygon's extent, or an edge of the polygon with all four
+    corners beyond it.
+
+    Parameters
+    ----------
+    hp : (e, 3) float, :func:`convex_halfplanes`
+    extent : (xmin, xmax, ymin, ymax) of the polygon
+    x0, x1, y0, y1 : (m,) float, the boxes' bounds (x0 <= x1, y0 <= y1)
+    tol : float, in the polygon's unit
+
+    Returns
+    -------
+    inside : (m,) bool, all four corners within ``tol`` of the polygon; disjoint : (m,) bool, the
+    box lies more than ``tol`` away from it along a separating axis
+    """
+    x0, x1, y0, y1 = (np.asarray(v, float) for v in (x0, x1, y0, y1))
+    inside = np.ones(x0.shape, dtype=bool)
+    apart = np.zeros(x0.shape, dtype=bool)
+    for a, b, c in hp:  # the largest value over the box's corners, and the smallest
+        hi = np.maximum(a * x0, a * x1) + np.maximum(b * y0, b * y1) + c
+        lo = np.minimum(a * x0, a * x1) + np.minimum(b * y0, b * y1) + c
+        inside &= lo >= -tol
+        apart |= hi < -tol
+    xmin, xmax, ymin, ymax = extent
+    apart |= (x0 > xmax + tol) | (x1 < xmin - tol) | (y0 > ymax + tol) | (y1 < ymin - tol)  # the box's own axes
+    return inside, apart

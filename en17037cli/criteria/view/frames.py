@@ -6,8 +6,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from en17037cli.geometry import area2, window_axes
+from en17037cli.geometry import area2, boxes_vs_convex, convex_halfplanes, points_in_convex, window_axes
 from en17037cli.scene.model import WINDOW, Room, Scene, room_window_group
+
+#: An outline whose convex hull is larger by at most this fraction of its area is convex (round-off
+#: of the collinear vertices of a tessellated arc).
+CONVEX_REL = 1e-12
+#: Points within this distance of a convex outline's edges lie on it [m] (shapely's exact test
+#: counts the edges in; this counts round-off of the edges' lines in too).
+ON_OUTLINE_M = 1e-12
 
 
 @dataclass
@@ -36,12 +43,18 @@ class WindowFrame:
     face_ids: np.ndarray
     #: (e, 3) float [m]: vertices (x, y, s) of the window's frame, s along the outward normal
     frame_xys: np.ndarray = None
+    #: (a, 2) and (b, 2) float [m]: (x, s) of the frame's edges parallel to ``v`` and (y, s) of
+    #: those parallel to ``u`` (:func:`axis_breakpoints`): the grid lines the view engine draws
+    frame_x: np.ndarray = None
+    frame_y: np.ndarray = None
     #: (k, 2, 3) float [m]: edges of the frame's faces that may bound what it hides (:func:`frame_edges`)
     frame_edges: np.ndarray = None
     #: (k, 2, 3) float [m]: the vertices opposite each edge in its two faces, NaN for an edge of one face
     frame_edge_opposite: np.ndarray = None
     _tree: object = None
     _outline: object = None
+    #: (e, 3) half-planes of the outline where it is convex (:func:`~en17037cli.geometry.convex_halfplanes`), else empty
+    _convex: np.ndarray | None = None
 
     def _outline_index(self):
         import shapely
@@ -51,12 +64,26 @@ class WindowFrame:
             shapely.prepare(outline)
             verts = shapely.get_coordinates(outline)
             self._outline = (outline, shapely.STRtree(shapely.points(verts)))
+            self._convex = np.zeros((0, 3))
+            if outline.geom_type == "Polygon" and not outline.interiors and \
+                    outline.convex_hull.area <= outline.area * (1 + CONVEX_REL):
+                ring = np.asarray(shapely.orient_polygons(outline).exterior.coords)[:-1]
+                self._convex = convex_halfplanes(ring)
         return self._outline
+
+    def _halfplanes(self) -> np.ndarray:
+        """The outline's half-planes where it is convex (a rectangle, a triangle, an arched or
+        round pane), else an empty array: then shapely answers."""
+        self._outline_index()
+        return self._convex
 
     def on_glazing(self, x, y) -> np.ndarray:
         """Whether points (plane coordinates [m]) lie on the glazing (its outline polygon, edges included)."""
         import shapely
 
+        hp = self._halfplanes()
+        if len(hp):
+            return points_in_convex(hp, x, y, ON_OUTLINE_M)
         return shapely.intersects_xy(self._outline_index()[0], x, y)
 
     def meets_glazing(self, x0, y0, x1, y1) -> np.ndarray:
@@ -78,6 +105,9 @@ class WindowFrame:
         """
         import shapely
 
+        hp = self._halfplanes()
+        if len(hp):  # vectorised, exact for a convex outline
+            return boxes_vs_convex(hp, (self.xmin, self.xmax, self.ymin, self.ymax), x0, x1, y0, y1, ON_OUTLINE_M)
         outline, vertex_tree = self._outline_index()
         inside = np.ones(len(x0), dtype=bool)
         for x, y in ((x0, y0), (x1, y0), (x0, y1), (x1, y1)):  # the four corners
@@ -201,8 +231,48 @@ def frame_faces(frame: WindowFrame, vertices: np.ndarray, triangles: np.ndarray,
 
 def frame_vertices(faces: np.ndarray) -> np.ndarray:
     """Unique corners (x, y, s) [m] of the frame's faces (:func:`frame_faces`, (f, 3, 3) [m]), rounded
-    to 1 nm: the view engine draws a grid line through the image of each. Returns (e, 3) float [m]."""
+    to 1 nm. Returns (e, 3) float [m]."""
     return np.unique(np.round(faces.reshape(-1, 3), 9), axis=0)
+
+
+#: An edge whose ends differ by at most the larger of these in a coordinate (in metres, and as a
+#: fraction of its length) is constant in it: real models are planar to a few microns (the seed
+#: office's transom runs 5e-6 m off its frame's plane over 1 m).
+AXIS_M = 1e-6
+AXIS_REL = 1e-4
+
+
+def axis_breakpoints(edges: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Where the frame's axis-parallel edges put grid lines of the view's sampling grid.
+
+    Seen from a point at distance d in front of the glazing plane, a frame point (x, y, s) has the
+    gnomonic image X = (x - x0) / (d + s), Y = (y - y0) / (d + s): an edge of constant x and s
+    (a jamb, the side of a mullion) images on the line alpha = atan(X), an edge of constant y and s
+    (a sill, a head, a transom) on a line beta = atan(Y). The view engine draws those lines, so a
+    mullion or a transom fills whole cells. Any other edge (an arc's segments, a diagonal member,
+    a reveal's edges running into the wall) images on no grid line: the cells its image crosses
+    count as mixed and are refined (:func:`~en17037cli.criteria.view.solid_angle.edge_pieces`),
+    so a finely tessellated arch costs cells along its length, not a line per vertex.
+
+    Parameters
+    ----------
+    edges : (k, 2, 3) float [m], (x, y, s) of the edges' ends (:func:`frame_edges`)
+
+    Returns
+    -------
+    xs : (a, 2) float [m], unique (x, s) of the edges parallel to v; ys : (b, 2), (y, s) of those parallel to u
+    """
+    if len(edges) == 0:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    d = np.abs(edges[:, 1] - edges[:, 0])
+    tol = np.maximum(AXIS_M, AXIS_REL * np.linalg.norm(d, axis=1))
+    flat_s = d[:, 2] <= tol
+    out = []
+    for c, other in ((0, 1), (1, 0)):  # x lines: x and s constant, y varies
+        sel = flat_s & (d[:, c] <= tol) & (d[:, other] > tol)
+        pts = edges[sel].reshape(-1, 3)[:, [c, 2]]  # both ends: an edge a hair off the axis images between their lines
+        out.append(np.unique(np.round(pts, 9), axis=0) if len(pts) else np.zeros((0, 2)))
+    return out[0], out[1]
 
 
 #: Two faces sharing an edge whose far corners lie closer than this to each other's plane, on
@@ -303,6 +373,7 @@ def room_geometry(scene: Scene, room: Room, frame_depth_m: float = 0.5) -> RoomG
         faces = frame_faces(f, scene.vertices, opaque if own is None else scene.triangles[own[opaque_mask[own]]], frame_depth_m)
         f.frame_xys = frame_vertices(faces)
         f.frame_edges, f.frame_edge_opposite = frame_edges(f, faces)
+        f.frame_x, f.frame_y = axis_breakpoints(f.frame_edges)
     wof = np.full(len(scene.triangles), -1, dtype=np.int64)
     for f in frames:
         wof[f.face_ids] = f.index

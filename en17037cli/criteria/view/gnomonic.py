@@ -73,12 +73,11 @@ def patches(rg: RoomGeometry, points: np.ndarray, resolution_rad: float, with_ed
         na = np.maximum(np.ceil((a1 - a0) / resolution_rad - 1e-9), 1).astype(np.int64)
         nb = np.maximum(np.ceil((b1 - b0) / resolution_rad - 1e-9), 1).astype(np.int64)
         parts.append((ok, np.full(len(ok), f.index), d, x0, y0, a0, a1, b0, b1, na, nb))
-        e = f.frame_xys
-        if len(e) and len(ok):  # images of the frame's vertices, seen through the glazing plane
-            depth = e[None, :, 2] + d[:, None]
-            pi, vi = np.nonzero(depth > MIN_PLANE_DISTANCE_M)
-            fa.append((pi + offset, np.arctan((e[vi, 0] - x0[pi]) / depth[pi, vi])))
-            fb.append((pi + offset, np.arctan((e[vi, 1] - y0[pi]) / depth[pi, vi])))
+        for e, out, foot in ((f.frame_x, fa, x0), (f.frame_y, fb, y0)):
+            if e is not None and len(e) and len(ok):  # images of the frame's axis-parallel edges
+                depth = e[None, :, 1] + d[:, None]
+                pi, vi = np.nonzero(depth > MIN_PLANE_DISTANCE_M)
+                out.append((pi + offset, np.arctan((e[vi, 0] - foot[pi]) / depth[pi, vi])))
         if with_edges and f.frame_edges is not None and len(f.frame_edges) and len(ok):
             sp, seg = edge_images(f.frame_edges, f.frame_edge_opposite, d, x0, y0, np.tan(a0), np.tan(a1), np.tan(b0), np.tan(b1))
             if not f.is_rectangle and len(sp):  # images outside the outline of a pane that is not a rectangle hide nothing
