@@ -53,7 +53,10 @@ def site_longitude(path: Path) -> float | None:
 
     from en17037cli.io.ifc_site import compound_degrees
 
-    sites = ifcopenshell.open(str(path)).by_type("IfcSite")
+    try:
+        sites = ifcopenshell.open(str(path)).by_type("IfcSite")
+    except Exception:  # a file ifcopenshell cannot open: the check itself says why (exit 2)
+        return None
     return compound_degrees(sites[0].RefLongitude) if sites else None
 
 

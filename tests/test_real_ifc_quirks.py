@@ -185,3 +185,50 @@ def test_the_readme_from_bim_project_runs_as_written(tmp_path):
         r = CliRunner().invoke(cli, args + [x for s in fast for x in ("--set", s)], catch_exceptions=False)
         assert r.exit_code in (0, 1), (model.name, r.output)
         assert yaml.safe_load(block)["version"] == 1
+
+
+def light_well(path: Path, *, open_ceiling: bool) -> Path:
+    """A hall (a 4 x 4 m IfcSpace, 2.4 m high) under a roof light: a 1 x 1 m window in a 0.2 m roof
+    slab at z 3.0 to 3.2, above a 1.2 x 1.2 m light well walled from the hall's ceiling (a slab at
+    z 2.4 to 2.5) up to the roof; ``open_ceiling``: the ceiling is cut round the well (as the
+    Duplex's Revit 2020 re-export draws it), else it runs closed under it. The roof is the only
+    host the file names (0.2 m), so the hall lies 0.7 m beyond it."""
+    from en17037cli.samples.ifc import Builder
+
+    b = Builder("IFC4")
+    st = b.storey("Ground", 0.0)
+    b.locate(52.0, 4.36, 0.0)
+    b.space("H1", "Hall", st, [(0, 0), (4, 0), (4, 4), (0, 4)], 0.0, 2.4)
+    roof = b.slab("Roof", st, [(-1, -1), (5, -1), (5, 5), (-1, 5)], 3.0, 0.2)
+    lo, hi = 1.4, 2.6  # the well, x and y
+    if open_ceiling:
+        for k, part in enumerate([[(0, 0), (4, 0), (4, lo), (0, lo)], [(0, hi), (4, hi), (4, 4), (0, 4)],
+                                  [(0, lo), (lo, lo), (lo, hi), (0, hi)], [(hi, lo), (4, lo), (4, hi), (hi, hi)]]):
+            b.slab(f"Ceiling {k}", st, part, 2.4, 0.1)
+    else:
+        b.slab("Ceiling", st, [(0, 0), (4, 0), (4, 4), (0, 4)], 2.4, 0.1)
+    for k, (p, q) in enumerate([((lo, lo), (hi, lo)), ((hi, lo), (hi, hi)), ((hi, hi), (lo, hi)), ((lo, hi), (lo, lo))]):
+        b.wall(f"Well {k}", st, *p, *q, 2.5, 0.5, thickness=0.05)
+    b.window("Roof light", st, roof, (2.0, 2.0, 3.2), (0, 0, 1), (1, 0, 0), 1.0, 1.0)
+    return b.write(path)
+
+
+def test_a_roof_light_over_a_light_well_opens_into_the_hall_below(tmp_path):
+    """The hall lies 0.7 m below the roof light's glass, beyond its 0.2 m host: with the ceiling
+    cut round the well nothing opaque lies between, so the light is the hall's, and P lies where
+    the well meets the hall (z 2.4, the space's top: the room-side end of the opening; the Revit
+    2011 export of the Duplex names the well's slabs as hosts and gets the same P). With the
+    ceiling closed under the well the light opens into no space, and validate says so."""
+    ifc = light_well(tmp_path / "open.ifc", open_ceiling=True)
+    r = pipeline.run(load_project(project(tmp_path, ifc, requirements={"sunlight": "minimum"}), []))
+    room = r.rooms[0].room
+    assert [w.name for w in room.windows] == ["Roof light"]
+    assert "nothing opaque between" in room.window_reasons["Roof light"]
+    res = r.rooms[0].assessed("sunlight")
+    p = res.points_local[0] + r.scene.origin
+    assert p[:2] == pytest.approx([2.0, 2.0], abs=1e-6) and p[2] == pytest.approx(2.4, abs=1e-6)
+    closed = tmp_path / "closed"
+    closed.mkdir()
+    ifc = light_well(closed / "closed.ifc", open_ceiling=False)
+    out = CliRunner().invoke(cli, ["validate", str(project(closed, ifc))])
+    assert "window 'Roof light': in no room" in out.output, out.output

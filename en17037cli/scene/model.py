@@ -41,6 +41,9 @@ class Window:
     area_m2: float
     key: str | None = None  # the product the window belongs to (an IfcWindow's GlobalId), where the file says
     host: tuple[str, ...] = ()  # ids of the objects its opening is cut in (the wall), where the file says (Part.host)
+    #: [m] how far the opening runs from the glazing to its room with nothing opaque between, beyond
+    #: the host (a roof light's light well down to the hall's ceiling), where the room's space says; else 0
+    open_depth_m: float = 0.0
 
     @property
     def centroid(self) -> np.ndarray:
@@ -60,7 +63,8 @@ class Window:
 
     def facing(self, normal: np.ndarray) -> Window:
         """The same window with ``normal`` as its outward normal."""
-        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key, self.host)
+        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key, self.host,
+                      self.open_depth_m)
 
 
 @dataclass

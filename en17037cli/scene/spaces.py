@@ -37,7 +37,7 @@ from en17037cli.errors import InputError
 from en17037cli.io.mesh import Space
 from en17037cli.project.settings import RoomSpec
 from en17037cli.scene.hosts import host_depths
-from en17037cli.scene.model import LeftOut, Room, Scene, Window
+from en17037cli.scene.model import WINDOW, LeftOut, Room, Scene, Window
 from en17037cli.scene.rooms import make_room
 from en17037cli.scene.windows import glazing_grid
 
@@ -59,6 +59,8 @@ class WindowSpaces:
 
     spaces: list[tuple[int, np.ndarray, str]] = field(default_factory=list)
     why: str = ""
+    #: space -> [m] the open path from the glazing to it, where the window opens into it that way
+    open_depth: dict[int, float] = field(default_factory=dict)
 
 
 def room_name(space: Space) -> str:
@@ -212,6 +214,13 @@ def _match_one(scene: Scene, w: Window, cand: list[int], bodies: list, named: se
                            f"{_how_far(dist)}{wall}"))
     if res.spaces:
         return res
+    for i, (side, share, dist, _) in found.items():  # a light well, a deep reveal: nothing opaque on the way
+        if 0 < dist <= margin_m and open_share(scene, w, samples, side * n, dist) >= MIN_SPACE_SHARE:
+            res.spaces.append((i, -side * n, f"{share:.0%} of its glazing {_how_far(dist)}{wall}, with nothing "
+                               "opaque between (a light well, a deep reveal)"))
+            res.open_depth[i] = dist
+    if res.spaces:
+        return res
     if found:
         i, (side, share, dist, allowed) = min(found.items(), key=lambda kv: kv[1][2])
         res.why = (f"the nearest space, '{room_name(spaces[i])}', lies {dist:.2f} m from its glazing, more than the "
@@ -220,6 +229,26 @@ def _match_one(scene: Scene, w: Window, cand: list[int], bodies: list, named: se
         res.why = (f"no space of the model lies within {margin_m:g} m of its glazing on either side (spaces missing "
                    "from the model, or the window outside every storey's spaces)")
     return res
+
+
+def open_share(scene: Scene, w: Window, samples: np.ndarray, d: np.ndarray, dist: float) -> float:
+    """Share of the rays from ``samples`` along ``d`` that meet no opaque face within ``dist`` [m]
+    (the window's own element not counted): the window opens into what lies that far along an
+    open path (a roof light over a light well down to the hall's ceiling opening)."""
+    if "tri_boxes" not in scene.cache:  # every face's bounding box, once per scene
+        tri = scene.vertices[scene.triangles]
+        scene.cache["tri_boxes"] = (tri.min(axis=1), tri.max(axis=1))
+    tlo, thi = scene.cache["tri_boxes"]
+    ends = samples + d * dist
+    lo, hi = np.minimum(samples, ends).min(axis=0) - 1e-6, np.maximum(samples, ends).max(axis=0) + 1e-6
+    faces = np.flatnonzero(np.all((tlo <= hi) & (thi >= lo), axis=1) & (scene.layer != WINDOW))
+    if w.key is not None and len(faces):
+        mine = np.array([scene.parts[p].attrs.get("id") == w.key for p in scene.part[faces]], bool)
+        faces = faces[~mine]
+    if len(faces) == 0:
+        return 1.0
+    t = ray_distances(samples + START_OFFSET_M * d, d, scene.vertices[scene.triangles[faces]])
+    return float(np.mean(t.min(axis=1) + START_OFFSET_M >= dist - 1e-6))
 
 
 def _how_far(dist: float) -> str:
@@ -256,7 +285,7 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     by_space: dict[int, list[tuple[Window, str]]] = {}
     for w, m in zip(scene.windows, matches):
         for i, normal, why in m.spaces:
-            by_space.setdefault(i, []).append((w.facing(normal), why))
+            by_space.setdefault(i, []).append((replace(w.facing(normal), open_depth_m=m.open_depth.get(i, 0.0)), why))
     keys = {w.key for w in scene.windows if w.key}
     names = space_names(scene)
     rooms = []

@@ -111,6 +111,11 @@ def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, setting
     if depth is None:
         depth = reveal_depth(engine, scene, q, n, a, 0.5 * (s.max() - s.min()), settings.max_reveal_depth_m)
     notes = []
+    open_depth = min(float(getattr(window, "open_depth_m", 0.0)), settings.max_reveal_depth_m)
+    if open_depth > depth:  # the opening runs on, open, to the room's space: its room-side end is there
+        depth = open_depth
+        notes.append(f"room '{room.name}', window '{window.name}': P lies {depth:.2f} m behind the glazing, where the "
+                     "open path from it (a light well) meets the room's space")
     if depth < GLAZING_OFFSET_M:  # no reveal, or only the wall's own plane found again through round-off
         depth = 0.0
     if depth > 0:
