@@ -277,3 +277,35 @@ def test_sun_path_memo_of_long_float_grids_only():
     s1, s2 = sp(t[:255]), sp(t[:255].copy())
     assert s1[0] is not s2[0]
     np.testing.assert_array_equal(s1[0], r1[0][:255])
+
+
+def test_point_p_probe_stops_where_the_rooms_space_begins():
+    """No host named; the probe finds the wall's inner face at 0.2 m and, deeper, a shelf's face at
+    0.6 m: with the room's space beginning 0.2 m behind the glazing, the reveal ends at most
+    SPACE_REVEAL_SLACK_M (0.15 m) beyond it, 0.35 m, with a note; without a space, the shelf's."""
+    scene = _scene([-0.2, -0.6])
+    eng = PlaneEngine([(-0.2, 2.0, 10.0, 0), (-0.2, -10.0, 0.0, 0), (-0.6, -10.0, 10.0, 1)])
+    w = _window([(0, 0, 1.0), (0, 2, 1.0), (0, 0, 2.0)], N, 1.0, 2.0)
+    _, depth, notes = pp.point_p(eng, scene, ROOM, w, SETTINGS)
+    assert depth == pytest.approx(0.6, abs=TOL) and notes == []
+    w.space_distance_m = 0.2
+    p, depth, notes = pp.point_p(eng, scene, ROOM, w, SETTINGS)
+    assert depth == pytest.approx(0.2 + pp.SPACE_REVEAL_SLACK_M, abs=TOL)
+    np.testing.assert_allclose(p, [-0.35, 1.0, 1.3], atol=TOL)
+    assert len(notes) == 1 and "where the room's space begins" in notes[0]
+    w.space_distance_m = 0.5  # the space begins beyond the shelf: the probe's face stands
+    _, depth, _ = pp.point_p(eng, scene, ROOM, w, SETTINGS)
+    assert depth == pytest.approx(0.6, abs=TOL)
+
+
+def test_point_p_at_the_end_of_an_open_light_well():
+    """A skylight whose room lies 0.7 m below it along an open path (``open_depth_m``): P lies
+    there, capped by max_reveal_depth_m (1.0 m here), with a note."""
+    w = _window([(0, 0, 3.0), (2, 0, 3.0), (0, 1, 3.0)], [0, 0, 1], 0.0, 3.0)
+    w.open_depth_m = 0.7
+    p, depth, notes = pp.point_p(NO_HIT, WALL, ROOM, w, SETTINGS)
+    np.testing.assert_allclose(p, [1.0, 1.0 / 3.0, 2.3], atol=TOL)
+    assert depth == pytest.approx(0.7) and "light well" in notes[0]
+    w.open_depth_m = 1.7
+    _, depth, _ = pp.point_p(NO_HIT, WALL, ROOM, w, SETTINGS)
+    assert depth == pytest.approx(SETTINGS.max_reveal_depth_m)

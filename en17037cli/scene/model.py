@@ -44,6 +44,9 @@ class Window:
     #: [m] how far the opening runs from the glazing to its room with nothing opaque between, beyond
     #: the host (a roof light's light well down to the hall's ceiling), where the room's space says; else 0
     open_depth_m: float = 0.0
+    #: [m] how far behind the glazing the room's space begins (its boundary: the wall's room-side face
+    #: as the model draws the space), where the room is a space of the model; else None
+    space_distance_m: float | None = None
 
     @property
     def centroid(self) -> np.ndarray:
@@ -64,7 +67,7 @@ class Window:
     def facing(self, normal: np.ndarray) -> Window:
         """The same window with ``normal`` as its outward normal."""
         return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key, self.host,
-                      self.open_depth_m)
+                      self.open_depth_m, self.space_distance_m)
 
 
 @dataclass

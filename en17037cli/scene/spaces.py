@@ -61,6 +61,8 @@ class WindowSpaces:
     why: str = ""
     #: space -> [m] the open path from the glazing to it, where the window opens into it that way
     open_depth: dict[int, float] = field(default_factory=dict)
+    #: space -> [m] how far from the glazing its rays enter it (negative: the glazing lies inside it)
+    distance: dict[int, float] = field(default_factory=dict)
 
 
 def room_name(space: Space) -> str:
@@ -196,7 +198,7 @@ def _match_one(scene: Scene, w: Window, cand: list[int], bodies: list, named: se
                 found[cand[j]] = (side, share, how_far, allowed)
     wall = "" if depths is None else f" (its host {depths[0] + depths[1]:.2f} m deep)"
     strict = {i: f for i, f in found.items() if abs(f[2]) <= f[3]}
-    res = WindowSpaces()
+    res = WindowSpaces(distance={i: f[2] for i, f in found.items()})
     if len(strict) > 1 and named & set(strict):  # the model's boundaries settle which of them
         picked = {i: strict[i] for i in strict if i in named}
         for i, (side, share, dist, _) in picked.items():
@@ -285,7 +287,8 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     by_space: dict[int, list[tuple[Window, str]]] = {}
     for w, m in zip(scene.windows, matches):
         for i, normal, why in m.spaces:
-            by_space.setdefault(i, []).append((replace(w.facing(normal), open_depth_m=m.open_depth.get(i, 0.0)), why))
+            by_space.setdefault(i, []).append((replace(w.facing(normal), open_depth_m=m.open_depth.get(i, 0.0),
+                                                       space_distance_m=m.distance.get(i)), why))
     keys = {w.key for w in scene.windows if w.key}
     names = space_names(scene)
     rooms = []

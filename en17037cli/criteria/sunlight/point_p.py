@@ -19,6 +19,10 @@ REVEAL_PROBE_BEYOND_JAMB_M = (0.02, 0.12, 0.25)
 #: Glazing whose normal's vertical component is at least this is roof glazing (tilted more than
 #: 30 degrees from vertical): where A.3's height falls outside it, P is its centre.
 ROOF_GLAZING_MIN_NZ = 0.5
+#: Where the room is a space of the model and the model names no host, a probed reveal ends at most
+#: this far beyond where the space begins [m] (a space drawn to the finish, short of the wall's face):
+#: a lintel, a shelf or a wall top inside the room is not the room-side plane of the opening.
+SPACE_REVEAL_SLACK_M = 0.15
 
 
 def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.ndarray, axis: np.ndarray, half_width: float, max_depth: float) -> float:
@@ -108,9 +112,15 @@ def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, setting
     else:
         q = centre
     depth = reveal_depth_from_host(scene, window, q, settings.max_reveal_depth_m)
+    notes = []
     if depth is None:
         depth = reveal_depth(engine, scene, q, n, a, 0.5 * (s.max() - s.min()), settings.max_reveal_depth_m)
-    notes = []
+        space = getattr(window, "space_distance_m", None)
+        if space is not None and depth > max(space, 0.0) + SPACE_REVEAL_SLACK_M:  # not deeper than the room's space begins
+            depth = max(space, 0.0) + SPACE_REVEAL_SLACK_M
+            notes.append(f"room '{room.name}', window '{window.name}': the model names no host for it and the probe "
+                         f"behind it met a face inside the room; P lies {depth:.2f} m behind the glazing, "
+                         f"{SPACE_REVEAL_SLACK_M:.2f} m beyond where the room's space begins")
     open_depth = min(float(getattr(window, "open_depth_m", 0.0)), settings.max_reveal_depth_m)
     if open_depth > depth:  # the opening runs on, open, to the room's space: its room-side end is there
         depth = open_depth
