@@ -38,15 +38,16 @@ WALL = 0.3
 
 
 def one_room(path: Path, *, glass: str = "glass", railing: bool = False, name_both: bool = False,
-             uncut: bool = False, store: bool = False, store_name: tuple[str, str] = ("S1", "Store")) -> Path:
+             uncut: bool = False, store: bool = False, store_name: tuple[str, str] = ("S1", "Store"),
+             frames_only: bool = False, schema: str = "IFC4") -> Path:
     """Write the one-room model (see the module docstring); ``glass``: the glass's style ('frame'
     for an opaque one), ``railing``: a 5 cm rail 5 cm inside the south window's east jamb,
     ``name_both``: space boundaries for both windows (else the south one only), ``uncut``: an
     extra window whose glass lies on the west wall's outer face with no opening, ``store``: a
-    windowless second space."""
+    windowless second space, ``frames_only``: windows with no glass at all."""
     from en17037cli.samples.ifc import Builder
 
-    b = Builder("IFC4")
+    b = Builder(schema)
     st = b.storey("Ground", 0.0)
     b.locate(52.0, 4.36, 0.0)
     foot = [(0, 0), (6.6, 0), (6.6, 5.6), (0, 5.6)]
@@ -57,8 +58,9 @@ def one_room(path: Path, *, glass: str = "glass", railing: bool = False, name_bo
     if store:
         b.space(*store_name, st, [(10, 10), (12, 10), (12, 12), (10, 12)], 0.0, 2.7)
     b.styles["glass"] = b.styles[glass]
-    b.window("W south", st, walls[0], (3.3, 0.0, 1.5), (0, -1, 0), (1, 0, 0), 2.0, 1.4, spaces=[room])
-    b.window("W east", st, walls[1], (6.6, 2.8, 1.5), (1, 0, 0), (0, 1, 0), 1.2, 1.2, spaces=[room] if name_both else [])
+    b.window("W south", st, walls[0], (3.3, 0.0, 1.5), (0, -1, 0), (1, 0, 0), 2.0, 1.4, spaces=[room], glass=not frames_only)
+    b.window("W east", st, walls[1], (6.6, 2.8, 1.5), (1, 0, 0), (0, 1, 0), 1.2, 1.2, spaces=[room] if name_both else [],
+             glass=not frames_only)
     if railing:
         r = b.entity("IfcRailing", "Stair rail")
         b.place(r, st)
@@ -232,3 +234,33 @@ def test_a_roof_light_over_a_light_well_opens_into_the_hall_below(tmp_path):
     ifc = light_well(closed / "closed.ifc", open_ceiling=False)
     out = CliRunner().invoke(cli, ["validate", str(project(closed, ifc))])
     assert "window 'Roof light': in no room" in out.output, out.output
+
+
+def test_windows_drawn_as_frames_only_get_a_pane_in_their_opening(tmp_path):
+    """No glass in the file at all (Autodesk Architectural Desktop's IFC2x exports draw a frame
+    and a sash): the opening the frame leaves is the pane, 6 cm inside the frame's outer edge all
+    round, in the middle of its depth; said in a note. Before: exit 2, no face on the window layer."""
+    s = scene_of(tmp_path, frames_only=True)
+    room = s.rooms[0]
+    areas = {w.name: w.area_m2 for w in room.windows}
+    assert areas == pytest.approx({"W south": (2.0 - 0.12) * (1.4 - 0.12), "W east": (1.2 - 0.12) * (1.2 - 0.12)}, abs=1e-9)
+    south = next(w for w in room.windows if w.name == "W south")
+    y = south.triangles[..., 1] + s.origin[1]
+    assert np.allclose(y, 0.02 + 0.04, atol=1e-9)  # the frame from 2 to 10 cm inside the wall's outer face
+    assert any("modelled as frames only" in n for n in s.notes)
+
+
+@pytest.mark.parametrize("old", ["IFC2X2_FINAL", "IFC2X_FINAL"])
+def test_an_ifc2x_file_is_read_as_ifc2x3(tmp_path, old):
+    """ifcopenshell reads no schema before IFC2X3; IFC2X3 kept the classes of IFC2x and IFC2x2:
+    the same model with its header naming the older schema reads the same, with a note."""
+    ifc = one_room(tmp_path / "room.ifc", schema="IFC2X3")
+    want = build_scene(load_project(project(tmp_path, ifc), []))
+    text = ifc.read_bytes()
+    assert b"FILE_SCHEMA(('IFC2X3'))" in text
+    older = tmp_path / "older"
+    older.mkdir()
+    (older / "room.ifc").write_bytes(text.replace(b"FILE_SCHEMA(('IFC2X3'))", f"FILE_SCHEMA(('{old}'))".encode()))
+    got = build_scene(load_project(project(older, older / "room.ifc"), []))
+    assert [(w.name, w.area_m2) for w in got.rooms[0].windows] == [(w.name, w.area_m2) for w in want.rooms[0].windows]
+    assert any(f"schema {old} (before IFC2X3), read as IFC2X3" in n for n in got.notes)

@@ -54,6 +54,7 @@ from en17037cli.io.ifc_glazing import (
     GLASS_TRANSPARENCY,
     GLAZED,
     assemblies,
+    frame_opening_panes,
     glass_by_style,
     hosts,
     is_default_material,
@@ -62,7 +63,7 @@ from en17037cli.io.ifc_glazing import (
 )
 from en17037cli.io.ifc_site import apply_map, map_conversion, site_of
 from en17037cli.io.ifc_spaces import read_spaces, storey_of
-from en17037cli.io.ifc_step import check_all_read, repair_derived_markers
+from en17037cli.io.ifc_step import as_ifc2x3, check_all_read, repair_derived_markers
 from en17037cli.io.mesh import Mesh, Part
 
 #: Classes not tessellated at all.
@@ -77,7 +78,7 @@ MAX_GEOMETRY_ERRORS = 20
 def _open(path: Path) -> tuple[object, list[str]]:
     """The ifcopenshell file of ``path`` and notes on what was repaired before reading it."""
     try:
-        import ifcopenshell
+        import ifcopenshell  # noqa: F401  (the extra is named before anything is read)
     except ImportError:
         raise InputError(f"{path}: reading IFC needs ifcopenshell: pip install 'en17037cli[ifc]'") from None
     try:
@@ -86,28 +87,42 @@ def _open(path: Path) -> tuple[object, list[str]]:
         raise InputError(f"{path}: cannot read model file: {exc.strerror}") from None
     if not data[:64].lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"ISO-10303-21"):
         raise InputError(f"{path}: not an IFC file (no ISO-10303-21 header); export the model as IFC (STEP)")
+    notes = []
+    data, older = as_ifc2x3(data)
+    if older:
+        notes.append(f"{path.name}: schema {older} (before IFC2X3), read as IFC2X3, which kept its classes: check "
+                     "validate's spaces and windows; ask for an IFC2X3 or IFC4 export if some are missing")
     try:
-        f = ifcopenshell.open(str(path))
+        f = _read(path, data, changed=bool(older))
     except Exception as exc:  # ifcopenshell raises its own error types for broken STEP
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise InputError(f"{path}: cannot read the IFC file ({msg}); re-export it") from None
+        raise InputError(f"{path}: cannot read the IFC file ({msg}); ask for an IFC2X3 or IFC4 export of the model") from None
     if f.schema not in ("IFC2X3", "IFC4", "IFC4X3", "IFC4X3_ADD2"):
-        raise InputError(f"{path}: IFC schema {f.schema} is not read; export IFC2X3, IFC4 or IFC4X3")
+        raise InputError(f"{path}: IFC schema {f.schema} is not read; ask for an IFC2X3, IFC4 or IFC4X3 export of the model")
     check_all_read(path, data, f)
-    notes = []
     fixed, count, entities = repair_derived_markers(data, f.schema)
     if count:
-        import tempfile
-
-        with tempfile.TemporaryDirectory(prefix="en17037-ifc-") as tmp:  # ifcopenshell reads files: the repaired text
-            p = Path(tmp) / "repaired.ifc"
-            p.write_bytes(fixed)
-            f = ifcopenshell.open(str(p))
+        f = _read(path, fixed, changed=True)
         names = ", ".join(sorted(entities)[:4]) + (" ..." if len(entities) > 4 else "")
         notes.append(f"{path.name}: {count} attribute(s) written '*' (derived) where the schema stores a value read as "
                      f"unset ('$'), in {names}: not valid STEP (ISO 10303-21 12.2.2); without this ifcopenshell leaves "
                      "those elements out")
     return f, notes
+
+
+def _read(path: Path, data: bytes, changed: bool):
+    """ifcopenshell's file of ``path``, or of ``data`` where the text was changed before reading
+    (ifcopenshell reads files: the changed text goes through a temporary one)."""
+    import ifcopenshell
+
+    if not changed:
+        return ifcopenshell.open(str(path))
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="en17037-ifc-") as tmp:
+        p = Path(tmp) / "repaired.ifc"
+        p.write_bytes(data)
+        return ifcopenshell.open(str(p))
 
 
 def default_layer(product, glazing: bool) -> str:
@@ -222,6 +237,7 @@ class _Builder:
         self.parts: list[Part] = []
         self.offset = 0
         self.panes_from_geometry: list[str] = []
+        self.panes_in_openings: list[str] = []
         self.plates_as_glass: list[str] = []
         self.left_out: list[tuple[str, str]] = []
 
@@ -252,8 +268,17 @@ class _Builder:
             if hv:
                 box = np.array([v.min(axis=0), v.max(axis=0)])
                 normal = host_normal(np.concatenate([hv_v[hv_f] for hv_v, hv_f in hv]), box)
-            glass = pane_faces(v, faces, principal_normal(v[faces]) if normal is None else normal)
-            if glass.any():
+            normal = principal_normal(v[faces]) if normal is None else normal
+            glass = pane_faces(v, faces, normal)
+            opening = None if glass.any() else frame_opening_panes(v, faces, normal)
+            if opening is not None:  # frames only: the pane fills what they leave open
+                n0 = len(v)
+                v = np.concatenate([v, opening.reshape(-1, 3)])
+                faces = np.concatenate([faces, n0 + np.arange(3 * len(opening)).reshape(-1, 3)])
+                mids = np.concatenate([mids, np.full(len(opening), -1, dtype=np.asarray(mids).dtype)])
+                glass = np.r_[glass, np.ones(len(opening), bool)]
+                self.panes_in_openings.append(label(product))
+            elif glass.any():
                 self.panes_from_geometry.append(label(product))
             else:
                 self.left_out.append((label(product), "no transparent style, no material named like glass, and no thin "
@@ -287,6 +312,10 @@ class _Builder:
             notes.append(f"{name}: {len(self.panes_from_geometry)} IfcWindow(s) with no transparent style or glass name: "
                          "their panes taken from their geometry (the thin plates in the wall's plane): "
                          f"{_listed(self.panes_from_geometry)}")
+        if self.panes_in_openings:
+            notes.append(f"{name}: {len(self.panes_in_openings)} IfcWindow(s) modelled as frames only (no glass, no "
+                         "transparent style): a pane put in each opening their frames leave, in the middle of their "
+                         f"depth: {_listed(self.panes_in_openings)}")
         if self.plates_as_glass:
             notes.append(f"{name}: {len(self.plates_as_glass)} IfcPlate(s) of curtain walls with no surface style of their "
                          f"own taken as glass: {_listed(self.plates_as_glass)}")

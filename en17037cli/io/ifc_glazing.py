@@ -176,3 +176,51 @@ def pane_faces(vertices: np.ndarray, faces: np.ndarray, normal: np.ndarray) -> n
             if not holes and covered >= PANE_MIN_FILL * hull and covered >= PANE_MIN_SHARE * whole:
                 out[level] = True
     return out
+
+
+#: The holes in a window's frames are its panes (where the file models no glass) when together they
+#: make at least this share of the window's outline (a sash's opening, not gaps between members) ...
+OPENING_MIN_SHARE = 0.2
+#: ... each at least this share (the quarters of a round window's glazing bars count, slits do not).
+OPENING_MIN_PIECE = 0.02
+
+
+def frame_opening_panes(vertices: np.ndarray, faces: np.ndarray, normal: np.ndarray) -> np.ndarray | None:
+    """(k, 3, 3) [m]: panes for a window modelled as frames only (no glass at all: Autodesk
+    Architectural Desktop's IFC2x exports draw a frame and a sash, each a ring): the holes of the
+    window's outline projected on the wall's plane (each at least :data:`OPENING_MIN_PIECE` of the
+    outline, together at least :data:`OPENING_MIN_SHARE`), triangulated (mapbox-earcut) in the plane through the middle of the window's depth.
+    None where the outline has no such hole.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float [m]; faces : (m, 3) int; normal : (3,) unit normal of the wall
+    """
+    import mapbox_earcut
+    import shapely
+
+    tri = vertices[faces]
+    d = np.asarray(normal, float) / np.linalg.norm(normal)
+    u = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
+    u /= np.linalg.norm(u)
+    w = np.cross(d, u)
+    proj = np.stack([tri @ u, tri @ w], axis=-1)
+    # pieces that touch within a micron made one; mitred, so the holes keep their corners
+    union = shapely.union_all(shapely.make_valid(shapely.polygons(proj))).buffer(1e-6, join_style="mitre").buffer(
+        -1e-6, join_style="mitre")
+    polys = [g for g in getattr(union, "geoms", [union]) if g.geom_type == "Polygon"]
+    whole = sum(shapely.Polygon(g.exterior).area for g in polys)
+    rings = [r for g in polys for r in g.interiors if shapely.Polygon(r).area >= OPENING_MIN_PIECE * whole]
+    if sum(shapely.Polygon(r).area for r in rings) < OPENING_MIN_SHARE * whole:
+        return None
+    holes = [np.asarray(shapely.Polygon(r).simplify(1e-6).exterior.coords)[:-1] for r in rings]  # no collinear points
+    depth = tri.reshape(-1, 3) @ d
+    mid = 0.5 * (depth.min() + depth.max())
+    out = []
+    for ring in holes:  # a window has one or a few openings
+        idx = mapbox_earcut.triangulate_float64(ring, np.array([len(ring)], np.uint32)).reshape(-1, 3)
+        xy = ring[idx]
+        a2 = (xy[:, 1, 0] - xy[:, 0, 0]) * (xy[:, 2, 1] - xy[:, 0, 1]) - (xy[:, 1, 1] - xy[:, 0, 1]) * (xy[:, 2, 0] - xy[:, 0, 0])
+        xy = xy[np.abs(a2) > 1e-12]  # slivers of nearly collinear points add nothing
+        out.append(xy[..., :1] * u + xy[..., 1:] * w + mid * d)
+    return np.concatenate(out)

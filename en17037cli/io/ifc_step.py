@@ -97,3 +97,20 @@ def check_all_read(path: Path, data: bytes, f) -> None:
     line = data.count(b"\n", 0, offset) + 1
     raise InputError(f"{path}: broken IFC (STEP) data at line {line} (#{sid}): only {read} of {len(defined)} instances "
                      "could be read; re-export the model or repair that line")
+
+
+#: Schemas ifcopenshell does not read whose entities IFC2X3 kept nearly unchanged (IFC2x Edition 2
+#: and IFC2x of 2000-2003: Autodesk Architectural Desktop, ArchiCAD 8 to 10, Allplan 2004 exports).
+OLDER_SCHEMAS = (b"IFC2X_FINAL", b"IFC2X2_FINAL", b"IFC2X2", b"IFC2X")
+_FILE_SCHEMA = re.compile(rb"FILE_SCHEMA\s*\(\s*\(\s*'([A-Za-z0-9_]+)'\s*\)\s*\)")
+
+
+def as_ifc2x3(data: bytes) -> tuple[bytes, str | None]:
+    """``data`` with an older schema named in its header (:data:`OLDER_SCHEMAS`) renamed IFC2X3, and
+    the old name; ``data`` and None for any other file. IFC2X3 (2006) is IFC2x2 with additions: the
+    classes this tool reads (products, their placements and shape representations, openings,
+    fillings, spaces) have the same attributes, so the text reads as it stands."""
+    m = _FILE_SCHEMA.search(data, 0, 20_000)
+    if m is None or m.group(1).upper() not in OLDER_SCHEMAS:
+        return data, None
+    return data[:m.start(1)] + b"IFC2X3" + data[m.end(1):], m.group(1).decode("ascii")

@@ -157,12 +157,13 @@ class Builder:
         return s
 
     def window(self, name: str, storey, wall, centre, n, u, width: float, height: float, panes: int = 1,
-               round_segments: int = 0, spaces=()):
+               round_segments: int = 0, spaces=(), glass: bool = True):
         """A window in ``wall``: an opening through it, a frame and glass panes (thin solids).
 
         centre : (3,) [m] the opening's centre on the wall's outer face; n : (3,) outward normal;
         u : (3,) horizontal axis of the window; ``panes`` > 1 splits the glass by mullions;
-        ``round_segments`` > 0 makes a round window of that many segments (diameter ``width``).
+        ``round_segments`` > 0 makes a round window of that many segments (diameter ``width``);
+        ``glass`` False leaves the glass out (frames only, as old IFC2x exports draw windows).
         """
         centre, n, u = (np.asarray(a, float) for a in (centre, n, u))
         v = np.cross(n, u)
@@ -192,8 +193,9 @@ class Builder:
         front = centre - 0.02 * n  # the frame's outer face, 2 cm inside the wall's outer face
         holes = [inner] if round_segments else panes_uv
         frame = self.plate(outer, holes, front, u, v, -n, FRAME_DEPTH_M)
-        glass = [self.plate(p, [], front - (FRAME_DEPTH_M / 2 - GLASS_M / 2) * n, u, v, -n, GLASS_M) for p in panes_uv]
-        self.represent(win, [frame, *glass], styles=["frame"] + ["glass"] * len(glass))
+        glazing = [self.plate(p, [], front - (FRAME_DEPTH_M / 2 - GLASS_M / 2) * n, u, v, -n, GLASS_M)
+                   for p in panes_uv] if glass else []
+        self.represent(win, [frame, *glazing], styles=["frame"] + ["glass"] * len(glazing))
         self.api.run("feature.add_filling", self.f, opening=op, element=win)
         for sp in spaces:  # the file's own space boundaries, as exporters write them
             gid = self.entity_id(f"boundary {name} {sp.Name}")
