@@ -43,8 +43,8 @@ def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Locatio
         return loc, out
     site = next((s for _, s, _ in g.sites if s.latitude is not None and s.longitude is not None), None)
     if site is None:
-        raise InputError(f"{where}: location.latitude: not given, and no model file says where it stands (IfcSite "
-                         "RefLatitude); give location.latitude and location.longitude")
+        raise InputError(f"{where}: location.latitude: not given, and no model file says where it stands (an IfcSite's "
+                         "RefLatitude, a gbXML Campus/Location); give location.latitude and location.longitude")
     lat = loc.latitude if loc.latitude is not None else site.latitude
     lon = loc.longitude if loc.longitude is not None else site.longitude
     for key, value, given in (("latitude", lat, loc.latitude), ("longitude", lon, loc.longitude)):

@@ -173,7 +173,10 @@ def match_windows(scene: Scene, margin_m: float) -> list[WindowSpaces]:
     out = []
     for k, w in enumerate(scene.windows):  # one small ray test per window and side
         lo, hi = wlo[k] - margin_m, whi[k] + margin_m
-        cand = [int(i) for i in np.flatnonzero(has & np.all(blo <= hi, axis=1) & np.all(bhi >= lo, axis=1))]
+        near = has & np.all(blo <= hi, axis=1) & np.all(bhi >= lo, axis=1)
+        for i in named.get(w.key, ()) if w.key else ():  # the spaces the file's boundaries name, wherever drawn
+            near[i] = has[i]
+        cand = [int(i) for i in np.flatnonzero(near)]
         out.append(_match_one(scene, w, cand, [bodies[i] for i in cand], named.get(w.key, set()) if w.key else set(),
                               margin_m, spaces))
     return out
@@ -221,6 +224,13 @@ def _match_one(scene: Scene, w: Window, cand: list[int], bodies: list, named: se
             res.spaces.append((i, -side * n, f"{share:.0%} of its glazing {_how_far(dist)}{wall}, with nothing "
                                "opaque between (a light well, a deep reveal)"))
             res.open_depth[i] = dist
+    if res.spaces:
+        return res
+    far = {i: f for i, f in found.items() if i in named}
+    for i, (side, _share, dist, _) in far.items():  # the file's own link, where the space's drawn volume is off
+        res.spaces.append((i, -side * n, f"named by the model's space boundaries; the space as drawn lies "
+                           f"{abs(dist):.2f} m from its glazing{wall} (its volume does not reach the window: check "
+                           "the room's floor and windows)"))
     if res.spaces:
         return res
     if found:

@@ -234,3 +234,21 @@ def test_spaces_sharing_a_name_become_rooms_named_with_their_ids(tmp_path):
     surfs = [surface("f", "SlabOnGrade", [(0, 0, 0), (8, 0, 0), (8, 4, 0), (0, 4, 0)], ("a", "b"))]
     m = read_gbxml(write(tmp_path, document([space("a", "Office", shells[0]), space("b", "Office", shells[1])], surfs)))
     assert sorted(room_name(s) for s in m.spaces) == ["Office (a)", "Office (b)"]
+
+
+def test_a_space_drawn_off_its_walls_keeps_the_windows_its_surfaces_name(tmp_path):
+    """Revit 2025's gbXML of an office draws some spaces' ShellGeometry short of the walls that
+    bound them (non-manifold shells: 418 edges of one used once): 28 of its 68 exterior windows
+    then lay in no room. Here the box room's shell drawn 3 m back from its facade: the facade's
+    AdjacentSpaceId names the space, so the window is the room's, and validate says the geometry
+    does not confirm it. Before: the window in no room, the room left out."""
+    b = BoxRoom()
+    hw, d, h = b.width / 2, b.depth, b.height
+    text = box_room_gbxml(b).replace(space("sp1", "box room", box_shell(-hw, hw, 0.0, d, 0.0, h)),
+                                     space("sp1", "box room", box_shell(-hw, hw, 3.0, d + 3.0, 0.0, h)))
+    assert "3.0</Coordinate>" in text
+    p = gbxml_project(tmp_path / "m", text)
+    code, out = run(["validate", str(p)])
+    assert code == 0, out
+    assert "window 'glazing'" in out and "in no room" not in out
+    assert "named by the model's space boundaries; the space as drawn lies 3.00 m from its glazing" in out

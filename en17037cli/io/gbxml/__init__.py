@@ -261,7 +261,8 @@ def _spaces(doc: Document, shells, surfaces, verdict) -> tuple[list[Space], list
         name, long_name = (s.id, s.name) if seen[s.name] > 1 else (s.name, "")
         out.append(Space(id=s.id, name=name, long_name=long_name, storey=doc.storeys.get(s.storey, ""), footprint=ring,
                          floor_z=z0, top_z=z1, windows=tuple(sorted(hints.get(i, ()))),
-                         zones=tuple(z for z in (doc.zones.get(s.zone),) if z), holes=holes, kind=SPACE_KIND))
+                         zones=tuple(z for z in (doc.zones.get(s.zone),) if z), holes=holes, kind=SPACE_KIND,
+                         body=shells[i] if s.shell else None))  # the closed shell is the volume: windows match it
     return out, no_floor
 
 
