@@ -275,6 +275,13 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window],
                     "can pass (the file cuts no opening for the window in that element). To check the room without this "
                     f"window, add the layer rule {{id: '{w.key}', layer: interior}}; to let light through that element, "
                     f"leave it out with model.files[].exclude: ['{other.attrs['id']}']")
+            if "id" in other.attrs and other.attrs.get("file") != own.attrs.get("file"):  # a context model's object
+                raise InputError(
+                    f"{where}: window '{w.name}' ({file_label(own)}) lies on '{file_label(other)}', an opaque face of "
+                    f"another model file within {UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covering {share} of it: "
+                    "no ray could pass. Where that object is the checked building as the context model draws it, "
+                    f"leave it out with exclude: ['{other.attrs['id']}'] on that file (or exclude_overlapping: true); "
+                    "else check the placement of the two files (transform, crs)")
             raise InputError(
                 f"{where}: window '{w.name}' ({file_label(own)}) lies on '{file_label(other)}', an opaque face within "
                 f"{UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covering {share} of it: no ray could pass; cut the "

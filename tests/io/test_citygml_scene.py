@@ -126,3 +126,23 @@ def test_bad_city_models_exit_2_with_one_line(tmp_path, bad, expect):
     lines = [x for x in r.output.strip().splitlines() if x.strip()]
     assert len(lines) == 1 and expect in lines[0] and "city.gml" in lines[0]
     assert not (tmp_path / "r" / "report.json").exists()
+
+
+def test_a_window_on_a_city_objects_wall_names_the_object_and_the_exclude_key(tmp_path):
+    """The checked building drawn in the city model too, placed so that the city's wall lies on
+    the box room's glazing (y = 0, the room to the north): one line naming the city object and
+    the file key that leaves it out, not 'cut the opening' (a city model is not the user's to cut)."""
+    e0, n0 = 389500.0, 5819600.0
+    write(tmp_path, city_model([building("the-checked-building", box_polys(e0 - 5, e0 + 5, n0 - 10, n0, 34.0, 10.0),
+                                         srs="EPSG:25833")]), "city.gml")
+    p = _box_among(tmp_path, "city.gml", (e0, n0, 34.0))
+    code, out = run(["validate", str(p)])
+    assert code == 2
+    line = out.strip().splitlines()[-1]
+    assert "lies on 'city: the-checked-building'" in line and "exclude: ['the-checked-building']" in line, line
+    assert "cut the opening" not in line
+    doc = yaml.safe_load(p.read_text())
+    doc["model"]["files"][1]["exclude"] = ["the-checked-building"]
+    p.write_text(yaml.safe_dump(doc, sort_keys=False))
+    code, out = run(["validate", str(p)])
+    assert code == 0, out

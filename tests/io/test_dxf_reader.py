@@ -244,3 +244,41 @@ def test_every_real_dxf_of_the_corpus_reads(path):
     m = read_model(path, ReadOptions())
     assert len(m.triangles) > 0 and m.summary
     assert any(q.layer == "window" for q in m.parts) or m.notes or m.warnings
+
+
+def stacked_zones_dxf(path: Path) -> Path:
+    """Two 4 x 5 m zones, one over the other with a 0.6 m plenum between (z 0-3, 3-3.6, 3.6-6.6), as
+    EnergyPlus draws them: each zone's own faces, floors facing down and ceilings up (out of their
+    zone), coincident where zones meet; a 2 x 1.4 m window drawn on each south wall."""
+    text = "  0\nSECTION\n  2\nENTITIES\n999\nDXF created from EnergyPlus\n999\nProgram Version,EnergyPlus, Version 23.2.0\n"
+    text += "999\nPolygon Action,ThickPolyline\n999\nColor Scheme,Default\n"
+    x0, x1, y0, y1 = -2.0, 2.0, 0.0, 5.0
+    for zone, (z0, z1, win) in {"ZONE_A": (0.0, 3.0, True), "PLENUM": (3.0, 3.6, False), "ZONE_B": (3.6, 6.6, True)}.items():
+        text += f"999\n{zone}:FLOOR\n" + _eplus_face(zone, 8, [(x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)])  # floor, facing down
+        text += _eplus_face(zone, 15, [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)])  # ceiling, facing up
+        for a, b in (((x0, y0), (x1, y0)), ((x1, y0), (x1, y1)), ((x1, y1), (x0, y1)), ((x0, y1), (x0, y0))):
+            text += _eplus_face(zone, 43, [(*a, z0), (*b, z0), (*b, z1), (*a, z1)])
+        if win:
+            text += f"999\n{zone}:WINDOW\n" + _eplus_face(zone, 143, [(-1.0, 0.0, z0 + 0.8), (1.0, 0.0, z0 + 0.8), (1.0, 0.0, z0 + 2.2), (-1.0, 0.0, z0 + 2.2)])
+    path.write_text(text + "  0\nENDSEC\n  0\nEOF\n")
+    return path
+
+
+def test_auto_rooms_in_an_energyplus_drawing_of_stacked_zones(tmp_path):
+    """rooms: auto on EnergyPlus's zones: a level is a floor where a room's height lies clear above
+    it, whichever way its faces turn: the two zones at z 0 and 3.6 m, each 20 m² with its window,
+    not the plenum's floor at 3.0 m (0.6 m clear). Before: floors were upward-facing faces only, so
+    the ceilings were taken for floors: one room, at z 3.0 (the plenum's floor)."""
+    d = tmp_path / "p"
+    p = box_room_project(d, BoxRoom(), sunlight=SUN, view=None)
+    stacked_zones_dxf(d / "eplusout.dxf")
+    doc = yaml.safe_load(p.read_text())
+    doc["model"]["files"] = [{"path": "eplusout.dxf"}]
+    doc["rooms"] = [{"auto": True}]
+    p.write_text(yaml.safe_dump(doc, sort_keys=False))
+    r = CliRunner().invoke(cli, ["check", str(p), "--out", str(d / "r"), "--no-plots", "-q"], catch_exceptions=False)
+    assert r.exit_code in (0, 1), r.output
+    rooms = json.loads((d / "r" / "report.json").read_text())["rooms"]
+    assert [x["name"] for x in rooms] == ["z 0.00 room at (0.0, 2.5)", "z 3.60 room at (0.0, 2.5)"]
+    assert [x["floor_area_m2"] for x in rooms] == pytest.approx([20.0, 20.0], abs=1e-6)
+    assert [[w["name"] for w in x["windows"]] for x in rooms] == [["ZONE_A:WINDOW"], ["ZONE_B:WINDOW"]]

@@ -243,7 +243,7 @@ def read_citygml(path: Path, options: ReadOptions | None = None) -> Mesh:
     warnings: list[str] = []
     v, tris, part, parts = c.finish(notes, warnings)
     _notes(c, path.name, options, notes, exclude)
-    if len(tris) == 0 and c.n_objects == 0:
+    if len(tris) == 0 and c.n_objects == 0 and not c.excluded and not c.n_far:  # (all left out by the project: an empty context)
         raise InputError(f"{path}: no city object with surfaces in the CityGML file; export it with its geometry")
     crs_name = c.crs.out_name
     src = sorted(c.crs.reprojected)
