@@ -113,9 +113,13 @@ def test_exclude_by_id_and_the_context_radius(tmp_path):
     # the 200 m tower 1.5 km east lies beyond the 1000 m radius around the window (85000, 446000)
     assert "context.city.json: 1 object lying entirely farther than 1000 m from (85000, 446000) left out" in report["notes"]
     report = run(project_with_city(tmp_path / "x", STREET, place=PLACE, exclude=["NL.street"]), tmp_path / "o2")
-    # without the street building the window sees sky and ground only: no landscape layer
-    pts = report["rooms"][0]["view"]["eye_heights"][0]["points"]
-    assert all(p["solid_angle_sr"]["landscape"] == 0.0 for p in pts)
+    # without the street building the model has no landscape left: the layers cannot be judged
+    # (and are not traced); with it, every point sees some landscape
+    view = report["rooms"][0]["view"]
+    assert view["status"] == "not_assessable" and "the model has no landscape" in view["reason"]
+    assert all(p["solid_angle_sr"]["landscape"] is None for p in view["eye_heights"][0]["points"])
+    report = run(project_with_city(tmp_path / "y", STREET, place=PLACE), tmp_path / "o3")
+    assert all(p["solid_angle_sr"]["landscape"] > 0 for p in report["rooms"][0]["view"]["eye_heights"][0]["points"])
 
 
 def test_rules_on_semantic_surfaces(tmp_path):

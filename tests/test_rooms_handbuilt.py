@@ -135,6 +135,23 @@ def test_an_open_plan_is_an_error_naming_the_gap(tmp_path):
         rooms_of(project(tmp_path, Flat(west_wall=False), NAMED))
 
 
+def test_two_named_rooms_the_walls_do_not_separate_are_an_error_not_one_floor_twice(tmp_path):
+    """A door opening up to the ceiling (no lintel) joins the living room and the bedroom at eye
+    height: the two rooms declared by name would each get the whole 35.79 m² region (24 + 11.7 +
+    the 0.9 x 0.1 m doorway), silently. With auto rooms that region is one room with all three
+    windows, as the rule says."""
+    with pytest.raises(InputError, match=r"rooms 'living' and 'bedroom' get the same floor \(35\.8 m² around .*"
+                                         r"do not separate them.*give each room its floor.*or declare them as one room"):
+        rooms_of(project(tmp_path / "named", Flat(door_head_m=2.7), NAMED))
+    rooms, _ = rooms_of(project(tmp_path / "auto", Flat(door_head_m=2.7), [{"auto": True, "floor_z": 0}]))
+    (room,) = rooms.values()
+    assert abs(room.floor.area - (24.0 + 11.7 + 0.09)) <= 0.01 * 35.79
+    assert sorted(w.name for w in room.windows) == ["glass bedroom north", "glass living east", "glass living south"]
+    with_lintel, _ = rooms_of(project(tmp_path / "lintel", Flat(), NAMED))  # the guard: a lintel keeps two rooms
+    assert_room(with_lintel["living"], "living")
+    assert_room(with_lintel["bedroom"], "bedroom")
+
+
 def test_validate_draws_each_storey_as_read(tmp_path):
     """``validate --plan DIR``: one picture per floor level, named by it."""
     import subprocess

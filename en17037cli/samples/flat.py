@@ -30,6 +30,7 @@ class Flat:
     neighbour: bool = True
     glazing_offset_m: float = 0.0  # > 0: the living room's south glazing floats this far outside its wall
     west_wall: bool = True  # False: the west wall left out (an open plan, a wall missing from the model)
+    door_head_m: float = 2.1  # ROOM_HEIGHT_M: the door's opening runs up to the ceiling (no lintel)
 
 
 def box(x0, y0, z0, x1, y1, z1) -> list:
@@ -85,7 +86,7 @@ def flat_polygons(f: Flat | None = None) -> dict:
         w += _wall("x", 7.1, 7.1 + t, -t, 3.9 + t, z, [(a0, a1, s, h) for _, a0, a1, s, h in win["N"]])  # north
         if f.west_wall:
             w += _wall("y", -t, 0.0, -t, 7.1 + t, z, [])  # west
-        w += _wall("x", 4.0, 4.1, 0.0, 3.9, z, [(2.5, 3.4, 0.0, 2.1)])  # partition with the door
+        w += _wall("x", 4.0, 4.1, 0.0, 3.9, z, [(2.5, 3.4, 0.0, f.door_head_m)])  # partition with the door
         out["slabs"] += box(-t, -t, z - 0.3, 6.0 + t, 4.0 + t, z) + box(-t, 4.0, z - 0.3, 3.9 + t, 7.1 + t, z)
         for name, (_, side, a0, a1, sill, head) in WINDOWS.items():
             at = {"S": -t / 2, "N": 7.1 + t / 2, "E": 6.0 + t / 2}[side]

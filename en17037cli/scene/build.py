@@ -17,7 +17,7 @@ from en17037cli.errors import InputError
 from en17037cli.project.settings import Location, Project
 from en17037cli.scene.load import load_geometry
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry, Scene
-from en17037cli.scene.rooms import make_room
+from en17037cli.scene.rooms import check_shared_floors, make_room
 from en17037cli.scene.spaces import rooms_from_spaces
 from en17037cli.scene.windows import check_glazing_over_opaque, find_windows
 
@@ -95,6 +95,7 @@ def build_scene(project: Project) -> Scene:
             scene.rooms.extend(rooms_from_spaces(scene, spec, f"{where}: rooms[{spec.index}]"))
         else:
             scene.rooms.append(make_room(scene, spec, f"{where}: rooms[{spec.index}] '{spec.name}'"))
+    check_shared_floors(scene.rooms, scene.origin, f"{where}: rooms")
     names = [r.name for r in scene.rooms]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:

@@ -270,3 +270,40 @@ def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, pla
     return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=poly, windows=windows, spec=spec,
                 floor_source="the region the walls enclose at eye height", ceiling_z=ceiling_z,
                 ceiling_source=ceiling_source, window_reasons=reasons, problem=problem)
+
+
+#: Two rooms whose floors, at one level, share more than this part of the smaller one are one region
+#: the tool read for both (a door or passage without a lintel between them) [-].
+SHARED_FLOOR_SHARE = 0.5
+
+
+def check_shared_floors(rooms: list[Room], origin: np.ndarray, where: str) -> None:
+    """Stop where the tool gave two rooms the same floor: rooms at one level (within 5 cm) whose
+    floors overlap over more than :data:`SHARED_FLOOR_SHARE` of the smaller one, at least one of
+    them derived from the model (the region the walls enclose, or its horizontal faces). Two
+    rooms declared by name whose walls do not separate them (a door opening up to the ceiling,
+    a passage, a wall missing) would otherwise both be assessed over the whole region, silently.
+    Given floors and a model's spaces are the user's or the model's own word and may overlap.
+
+    Raises
+    ------
+    InputError
+        naming both rooms, the region (area and a point in it) and the two ways out.
+    """
+    derived = [r for r in rooms if not r.floor.is_empty and r.floor_source != "given"
+               and not r.floor_source.endswith("footprint")]
+    for i, a in enumerate(derived):
+        for b in derived[i + 1:]:
+            if abs(a.floor_z - b.floor_z) > 0.05:
+                continue
+            small = min(a.floor.area, b.floor.area)
+            if small <= 0 or a.floor.intersection(b.floor).area <= SHARED_FLOOR_SHARE * small:
+                continue
+            from en17037cli.scene.section import describe
+
+            raise InputError(
+                f"{where}: rooms '{a.name}' and '{b.name}' get the same floor ({describe(a.floor, origin)}, "
+                f"z {a.floor_z + origin[2]:g} m): the walls at eye height do not separate them (an opening from "
+                "floor to ceiling between them, such as a door or a passage without a lintel, or a wall missing "
+                "from the model); give each room its floor: [[x, y], ...] (validate --plan DIR draws the region), "
+                "or declare them as one room")

@@ -135,6 +135,7 @@ class Runner:
 
         project = load_project(self.path, self.base + [f"{k}={v}" for k, v in overrides.items()])
         ctx = Context(project, self.scene, self.engine)
+        ctx.cache["view_all_layers"] = True  # a ladder of the layers' solid angles, landscape or not
         criterion = CRITERIA[check]
         self.engine.rays_traced = 0
         plans = {}

@@ -198,6 +198,7 @@ def sensitivity(project_path: Path, out_dir: Path, overrides=(), log=print) -> d
 
         def assess(name: str, proj, rooms=None, reuse=None) -> dict:
             c, ctx = CRITERIA[name], Context(proj, scene, engine)
+            ctx.cache["view_all_layers"] = True  # the layers' verdicts are compared, landscape or not
             if reuse:
                 ctx.cache["view_reuse"] = reuse
             out = {}

@@ -83,9 +83,10 @@ class ViewCriterion(Criterion):
         if "view_rays" not in ctx.cache:
             ctx.cache["view_rays"] = ViewRays(ctx.engine, ctx.scene)
         reuse = ctx.cache.get("view_reuse", {}).get(room.name)  # set by the sensitivity study only
-        result = assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress,
-                             reuse)
         why = no_landscape(ctx.scene)
+        layers = why is None or ctx.cache.get("view_all_layers", False)  # the studies keep them
+        result = assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress,
+                             reuse, layers)
         if why is not None:
             result.layers_unassessable = f"{why}; without the layers: {layers_aside(result)}"
         return result

@@ -47,9 +47,18 @@ def chunks(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> list
     return [slice(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
 
 
+def no_solid_angles(n: int) -> SolidAngles:
+    """The solid angles of ``n`` points that were not traced (NaN: reported as null), for a view
+    whose layers cannot be judged (a model without landscape) when the outside distance does not
+    come from them either."""
+    nan = np.full(n, np.nan)
+    return SolidAngles(sr={k: nan for k in LAYER_NAMES}, err_sr={k: nan for k in LAYER_NAMES}, glazing_sr=nan,
+                       cells=np.zeros(n, int))
+
+
 def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings,
                   thresholds: Thresholds, progress: Callable[[int], None] | None = None,
-                  solid: SolidAngles | None = None) -> ViewPoints | None:
+                  solid: SolidAngles | None = None, layers: bool = True) -> ViewPoints | None:
     """Every per-point quantity, level and error estimate for one set of viewpoints (vectorised).
 
     Parameters
@@ -57,11 +66,16 @@ def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, set
     points : (p, 3) float [m], local frame
     solid : the solid angles of these same points from an earlier run whose solid-angle settings
         were the same (the sensitivity study's distance statistics): not traced again
+    layers : False where the layers cannot be judged (a model without landscape): the solid angles
+        are not traced unless the outside distance is measured with them (NaN, reported as null);
+        they are most of a view's cost (SampleHouse4: 27 of 28 s)
 
     Returns
     -------
     ViewPoints, or None without points
     """
+    if solid is None and not layers and settings.distance_method == "horizontal":
+        solid = no_solid_angles(len(points))
     solids, sight = [], []
     for sl in chunks(rg, points, settings):  # chunks bound memory; each chunk is vectorised
         chunk = points[sl]
@@ -93,7 +107,7 @@ def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, set
 
 def assess_room(view_rays: ViewRays, scene: Scene, room: Room, settings: ViewSettings, thresholds: Thresholds,
                 groups: tuple[list, list], progress: Callable[[int], None] | None = None,
-                reuse: ViewResult | None = None) -> ViewResult:
+                reuse: ViewResult | None = None, layers: bool = True) -> ViewResult:
     """View result of one room: per eye height, per point values, shares and levels.
 
     Parameters
@@ -102,6 +116,7 @@ def assess_room(view_rays: ViewRays, scene: Scene, room: Room, settings: ViewSet
         which sizes a progress bar with them)
     reuse : an earlier result of the room with the same viewpoints and solid-angle settings: its
         solid angles are taken, not traced (the caller vouches for the settings)
+    layers : False where the layers cannot be judged (:func:`assess_points`)
     """
     rg = room_geometry(scene, room, settings.frame_depth_m)
     planned, notes = groups
@@ -109,7 +124,8 @@ def assess_room(view_rays: ViewRays, scene: Scene, room: Room, settings: ViewSet
     for h, pts in planned:  # one pass per eye height (two by default)
         old = next((e.values for e in (reuse.eye_heights if reuse else ())
                     if e.values is not None and e.points_local.shape == pts.shape and np.array_equal(e.points_local, pts)), None)
-        values = assess_points(view_rays, rg, pts, settings, thresholds, progress, None if old is None else old.solid)
+        values = assess_points(view_rays, rg, pts, settings, thresholds, progress, None if old is None else old.solid,
+                               layers)
         levels, share = {}, {}
         for crit in standard.VIEW_CRITERIA:
             levels[crit], share[crit] = standard.room_level([] if values is None else values.level_by_criterion[crit],

@@ -38,6 +38,11 @@ VIEW_METHOD = {
 }
 
 
+#: The method entry of the solid angles where they were not traced.
+NOT_TRACED = ("not traced: the model has no landscape, so the layers cannot be judged and the room's view is not "
+              "assessable; sight angle and outside distance are measured as usual")
+
+
 def view_method(settings: ViewSettings) -> dict:
     """:data:`VIEW_METHOD` with the sight-angle entry of the project's ``view.sight_angle_method``."""
     out = {k: v for k, v in VIEW_METHOD.items() if not k.endswith("_fan")}
@@ -59,7 +64,7 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
             dist = v.distance_m[i]
             unob = bool(np.isinf(dist) and dist > 0)
             sa_err = {k: json_number(v.solid.err_sr[k][i]) for k in LAYER_NAMES}
-            err["solid_angle_sr"] = max(err["solid_angle_sr"], *[x for x in sa_err.values()])
+            err["solid_angle_sr"] = max([err["solid_angle_sr"], *[x for x in sa_err.values() if x is not None]])
             err["horizontal_sight_angle_deg"] = max(err["horizontal_sight_angle_deg"], float(v.sight.angle_err_deg[i]))
             if np.isfinite(v.distance_gap_m[i]):
                 err["outside_distance_m"] = max(err["outside_distance_m"], float(v.distance_gap_m[i]))
@@ -87,6 +92,7 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
             "points_near_threshold": int(np.count_nonzero(v.near)) if len(points) else 0,
             "points": points,
         })
+    traced = any(e.values is not None and np.isfinite(e.values.solid.glazing_sr).any() for e in res.eye_heights)
     level = LEVELS[res.level]
     limit = standard.view_limit([(e.eye_height_m, e.share_by_level) for e in res.eye_heights], res.level, required,
                                 settings.area_fraction)
@@ -99,12 +105,12 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
         "limiting": json_limit(limit),
         "score": json_scores(room_view_score(scores), scores),
         "error_estimates": {
-            "max_solid_angle_error_sr": json_number(err["solid_angle_sr"]),
+            "max_solid_angle_error_sr": json_number(err["solid_angle_sr"] if traced else None),
             "max_horizontal_sight_angle_error_deg": json_number(err["horizontal_sight_angle_deg"], 6),
             "max_outside_distance_error_m": json_number(err["outside_distance_m"], 4),
             "smallest_feature_resolved_deg": {"solid_angle": settings.angular_resolution_deg,  # frames: exactly
                                               "horizontal_sight_angle": settings.horizontal_resolution_deg},
-            "method": view_method(settings),
+            "method": view_method(settings) | ({} if traced else {"solid_angle_sr": NOT_TRACED}),
         },
         "eye_heights": eye_out,
     }
