@@ -137,3 +137,24 @@ def test_paper_viewpoint_grids_load_as_given():
     pts = p.rooms[0].view_points
     assert pts.shape == (2800, 3)
     assert sorted(set(np.round(pts[:, 2] - 9.3, 3))) == [1.2, 1.7]
+
+
+def test_a_rule_naming_objects_is_not_matched_by_the_files_name():
+    """``glass*`` in a file called ``glasshouse.obj`` places its glass, not every wall (each wall
+    matched the file's name: the whole model went on the window layer, no room had walls); a rule
+    that names no object of a file still places the whole file by its name."""
+    from en17037cli.io.mesh import Mesh, Part
+    from en17037cli.project.settings import LayerRule, ModelFile
+    from en17037cli.scene.layers import assign_layers, layer_code
+
+    def mesh(*names):
+        return Mesh(vertices=np.zeros((3, 3)), triangles=np.zeros((len(names), 3), int), part=np.arange(len(names)),
+                    parts=[Part(attrs={"object": n}) for n in names])
+
+    rules = (LayerRule(match="glass*", layer="window"), LayerRule(match="*window*", layer="window"),
+             LayerRule(match="*", layer="interior"))
+    spec = ModelFile(path=None, display="glasshouse.obj", rules=rules, layer=None, obstructs_sun=True, units=None, up_axis=None)
+    by_part, _, _ = assign_layers(spec, mesh("glass A", "walls", "slab"), "p.yaml", "glasshouse")
+    assert [int(x) for x in by_part] == [layer_code("window"), layer_code("interior"), layer_code("interior")]
+    by_part, _, _ = assign_layers(spec, mesh("Mesh", "Mesh.001"), "p.yaml", "ref_room_window")
+    assert [int(x) for x in by_part] == [layer_code("window")] * 2
