@@ -449,3 +449,28 @@ def test_obstructions_seen_edge_on_from_p_hide_no_sun(tmp_path, dx):
             b.engine.close()
     assert hours[0] > 5.0  # the open south window sees the sun most of the day
     assert np.all(np.abs(np.array(hours) - hours[0]) * 3600 <= 0.05), hours
+
+
+def test_leaving_out_the_pairs_outside_each_windows_wedge_changes_no_interval(built_flats, monkeypatch):
+    """The plan's pieces with only the pairs that may shadow each window (criteria/view/wedge.py)
+    and in blocks of points are those of every pair at once, bit for bit, from viewpoints on the
+    lines of jambs, reveals and the mullion (where a segment lies on a wedge's edge), in the flat
+    turned and far from the origin."""
+    from en17037cli.criteria.view import plan
+
+    for (rot, off), b in built_flats.items():
+        rg = room_geometry(b.scene, b.room, b.view_cfg.frame_depth_m)
+        flat = Flat()
+        pts = np.array([(*turn_xy([q], rot, off[:2])[0], off[2] + h) for q in on_lines(flat) for h in (1.2, 1.7)])
+        with monkeypatch.context() as m:  # blocks of 16 points, as a large room goes
+            m.setattr(plan, "MAX_PAIRS", 1000)
+            m.setattr(plan, "POINT_BLOCK", 16)
+            culled = plan.visible_intervals(b.scene, rg, b.scene.to_local(pts), b.view_cfg.frame_depth_m)
+        with monkeypatch.context() as m:
+            m.setattr(plan, "in_wedge", lambda rg, k, cut, g, points, pa, pb: np.ones(len(points), bool))
+            m.setattr(plan, "may_shadow", lambda rg, k, zs, points, a, b, cut: np.ones(a.shape[:2], bool))
+            m.setattr(plan, "MAX_PAIRS", 10**12)
+            every = plan.visible_intervals(b.scene, rg, b.scene.to_local(pts), b.view_cfg.frame_depth_m)
+        for x, y in zip(culled[:3], every[:3]):
+            assert np.array_equal(x, y), (rot, off)
+        assert len(culled[0]) > len(pts) // 2  # most points see out: the comparison has pieces to compare

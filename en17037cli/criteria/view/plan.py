@@ -30,6 +30,7 @@ import numpy as np
 
 from en17037cli.criteria.view.frames import RoomGeometry
 from en17037cli.criteria.view.gnomonic import MIN_PLANE_DISTANCE_M
+from en17037cli.criteria.view.wedge import in_wedge, may_shadow, window_cut
 from en17037cli.geometry import cut_triangles, turn
 from en17037cli.scene.model import INTERIOR, WINDOW, Scene
 
@@ -41,6 +42,10 @@ UNIT_ROUNDOFF = float(np.finfo(np.float64).eps) / 2
 INSIDE_OPENING_M = 1e-3
 #: At most this many (plane, triangle) cuts at once: viewpoints at many heights go in blocks.
 MAX_CUTS = 2_000_000
+#: Rooms with more (point, face) pairs than this go in blocks of :data:`POINT_BLOCK` points, in
+#: their grid order (rows of nearby points: the box of :func:`~.wedge.may_shadow` stays small).
+MAX_PAIRS = 100_000
+POINT_BLOCK = 64
 #: Distances from the eye below this count as this in the round-off bound [m] (an eye on a face).
 MIN_EYE_DISTANCE_M = 1e-6
 
@@ -243,12 +248,13 @@ def shadow_arcs(rg: RoomGeometry, points: np.ndarray, tri: np.ndarray, layer: np
     out: tuple[list, ...] = [], [], [], [], []
     zs, gi = np.unique(points[:, 2], return_inverse=True)
     ok, a, b = cut_triangles(tri, zs)
-    pi, ki = np.nonzero(ok[gi])
-    if len(pi) == 0:
-        return tuple(np.zeros(0, t) for t in (np.int64, np.int64, float, float, float))
-    pa, pb = a[gi[pi], ki], b[gi[pi], ki]
-    z = points[pi, 2]
     for k, f in enumerate(rg.frames):  # a loop over the room's windows, vectorised over points and faces
+        cut = window_cut(rg, k, zs)  # only the pairs that may shadow this window (:mod:`.wedge`)
+        pi, ki = np.nonzero((ok & may_shadow(rg, k, zs, points, a, b, cut))[gi])
+        pa, pb = a[gi[pi], ki], b[gi[pi], ki]
+        keep = in_wedge(rg, k, cut, gi[pi], points[pi], pa, pb)
+        pi, ki, pa, pb = pi[keep], ki[keep], pa[keep], pb[keep]
+        z = points[pi, 2]
         # signed distance of each end from the window's plane (outwards positive)
         sa, sb = ((e[:, 0] - f.origin[0]) * f.n[0] + (e[:, 1] - f.origin[1]) * f.n[1] + (z - f.origin[2]) * f.n[2]
                   for e in (pa, pb))
@@ -269,10 +275,13 @@ def shadow_arcs(rg: RoomGeometry, points: np.ndarray, tri: np.ndarray, layer: np
             p_, lo, hi, w_, r_ = split_wrap(pi[idx], start, end, np.full(len(idx), k), r)
             for acc, x in zip(out, (p_, w_, lo, hi, r_)):
                 acc.append(x)
+    if not out[0]:
+        return tuple(np.zeros(0, t) for t in (np.int64, np.int64, float, float, float))
     return tuple(np.concatenate(x) for x in out)
 
 
-def visible_intervals(scene: Scene, rg: RoomGeometry, points: np.ndarray, depth_m: float, members_block: bool = True):
+def visible_intervals(scene: Scene, rg: RoomGeometry, points: np.ndarray, depth_m: float, members_block: bool = True,
+                      faces: np.ndarray | None = None):
     """The azimuths from each point that leave through a window in plan, as maximal pieces.
 
     Parameters
@@ -282,6 +291,8 @@ def visible_intervals(scene: Scene, rg: RoomGeometry, points: np.ndarray, depth_
         take part, and how far from a window's plane a member inside its opening may lie
     members_block : bool, ``view.mullions_block``: False leaves members inside an opening
         (:func:`opening_members`) out
+    faces : the opaque faces that take part (:func:`near_faces` of all the points), given to the
+        blocks of points a large room is split into, so that plan and rays agree on them
 
     Returns
     -------
@@ -291,11 +302,15 @@ def visible_intervals(scene: Scene, rg: RoomGeometry, points: np.ndarray, depth_
     bound : (p,) float [rad], :func:`float_bound` of each point's total
     """
     p = len(points)
-    faces = near_faces(scene, rg, points, depth_m)
+    faces = near_faces(scene, rg, points, depth_m) if faces is None else faces
     heights = len(np.unique(points[:, 2]))
+    step = p
     if heights > 1 and heights * max(len(faces), len(rg.triangles)) > MAX_CUTS:  # viewpoints at many heights: blocks
         step = max(1, MAX_CUTS // max(len(faces), len(rg.triangles), 1))
-        parts = [visible_intervals(scene, rg, points[a:a + step], depth_m, members_block) for a in range(0, p, step)]
+    if p * len(faces) > MAX_PAIRS:  # a large room: blocks of nearby points (:mod:`.wedge` keeps their pairs few)
+        step = min(step, POINT_BLOCK)
+    if step < p:
+        parts = [visible_intervals(scene, rg, points[a:a + step], depth_m, members_block, faces) for a in range(0, p, step)]
         return (np.concatenate([x[0] + a for x, a in zip(parts, range(0, p, step))]),
                 *(np.concatenate([x[i] for x in parts]) for i in (1, 2)), faces, np.concatenate([x[4] for x in parts]))
     wpt, wwin, wlo, whi, wr = window_arcs(rg, points)
