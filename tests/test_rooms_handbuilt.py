@@ -121,6 +121,11 @@ def test_glazing_off_its_wall_is_a_warning_naming_window_and_room(tmp_path):
     assert "the wall 0.30 m thick" in warn[0]
     clean = rooms_of(project(tmp_path / "ok", Flat(), NAMED))[1]
     assert not [w for w in clean.warnings if "outside its wall" in w]
+    # 3 cm outside (a pane in a frame's rebate, a door's glass beyond its threshold): not a pane off its wall
+    rebate = rooms_of(project(tmp_path / "rebate", Flat(glazing_offset_m=0.03), NAMED))[1]
+    assert not [w for w in rebate.warnings if "outside its wall" in w], rebate.warnings
+    moved = rooms_of(project(tmp_path / "moved", Flat(glazing_offset_m=0.08), NAMED))[1]
+    assert [w for w in moved.warnings if "lies 0.08 m outside its wall" in w], moved.warnings
 
 
 def test_a_glob_picking_another_rooms_window_is_an_error(tmp_path):
@@ -188,3 +193,55 @@ def test_a_gltf_from_blender_reads_the_same(tmp_path):
     rooms, _ = rooms_of(tmp_path / "project.yaml")
     assert_room(rooms["living"], "living")
     assert_room(rooms["bedroom"], "bedroom")
+
+
+def roof_lit(storeys: int) -> dict:
+    """Rooms 5 x 4 m lit only by a 1 x 1 m roof light in the roof over the top storey (its glass at
+    the roof's top, 3.0 m above that floor: its middle higher than any wall window's), walls 0.25 m,
+    rooms 2.7 m high, storeys 3.0 m apart; the lower storeys get a south window each."""
+    from en17037cli.samples.flat import box
+
+    t, H, out = 0.25, 2.7, {"walls": [], "slabs": [], "ground": [[(-60, -60, 0), (60, -60, 0), (60, 60, 0), (-60, 60, 0)]]}
+    for k in range(storeys):
+        z = 3.0 * k
+        top = k == storeys - 1
+        out["walls"] += (box(-t, -t, z, 5 + t, 0, z + H) if top else
+                         box(-t, -t, z, 1, 0, z + H) + box(3, -t, z, 5 + t, 0, z + H) + box(1, -t, z, 3, 0, z + 0.9)
+                         + box(1, -t, z + 2.2, 3, 0, z + H))
+        out["walls"] += box(-t, 4, z, 5 + t, 4 + t, z + H) + box(-t, 0, z, 0, 4, z + H) + box(5, 0, z, 5 + t, 4, z + H)
+        roof = z + H
+        if top:  # the roof with a 1 x 1 m opening, the glass on its top
+            out["slabs"] += (box(-t, -t, roof, 2, 4 + t, roof + 0.3) + box(3, -t, roof, 5 + t, 4 + t, roof + 0.3)
+                             + box(2, -t, roof, 3, 1.5, roof + 0.3) + box(2, 2.5, roof, 3, 4 + t, roof + 0.3))
+            out["glass roof"] = [[(2, 1.5, roof + 0.3), (3, 1.5, roof + 0.3), (3, 2.5, roof + 0.3), (2, 2.5, roof + 0.3)]]
+        else:
+            out["slabs"] += box(-t, -t, roof, 5 + t, 4 + t, roof + 0.3)
+            out[f"glass south {k + 1}"] = [[(1, -0.12, z + 0.9), (3, -0.12, z + 0.9), (3, -0.12, z + 2.2), (1, -0.12, z + 2.2)]]
+    out["neighbour"] = box(-10.0, -30.0, 0.0, 20.0, -20.0, 12.0)
+    return out
+
+
+def test_a_room_lit_by_a_roof_light_alone_gets_its_walls_region_and_auto_finds_it(tmp_path):
+    """A roof light's middle lies higher above its floor (2.85 to 3.0 m) than any wall window's: it
+    was no window of its level, so a room given by name took its floor from the slab (24.75 m²,
+    the walls' footprint included) and auto found no room. It lights the level it sees straight
+    below; the storey under it (behind a slab) is not lit by it."""
+    from en17037cli.samples.box import write_obj
+
+    for storeys in (1, 2):
+        d = tmp_path / f"s{storeys}"
+        d.mkdir()
+        write_obj(d / "m.obj", roof_lit(storeys))
+        top = 3.0 * (storeys - 1)
+        doc = {"version": 1, "name": "roof", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
+               "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
+               "rooms": [{"name": "top", "floor_z": top}], "view": {}, "sunlight": {}}
+        (d / "named.yaml").write_text(yaml.safe_dump(doc))
+        rooms, _ = rooms_of(d / "named.yaml")
+        assert abs(rooms["top"].floor.area - 20.0) <= 0.2 and [w.name for w in rooms["top"].windows] == ["glass roof"]
+        (d / "auto.yaml").write_text(yaml.safe_dump(doc | {"rooms": [{"auto": True}]}))
+        rooms, scene = rooms_of(d / "auto.yaml")
+        got = sorted((round(float(r.floor_z + scene.origin[2]), 2), round(r.floor.area, 1), tuple(w.name for w in r.windows))
+                     for r in rooms.values())
+        want = [(3.0 * k, 20.0, ("glass roof",) if k == storeys - 1 else (f"glass south {k + 1}",)) for k in range(storeys)]
+        assert got == want, got

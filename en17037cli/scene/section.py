@@ -35,6 +35,9 @@ CUT_HEIGHT_M = 1.2
 BRIDGE_HEIGHTS_M = (0.1, 2.25)
 #: Segments closer than this are the same line; ends closer than this meet [m].
 SNAP_M = 1e-3
+#: Glazing outside its wall by less than this is a frame's rebate or threshold, not a pane moved
+#: off its wall (ArchiCAD's FZK-Haus: a terrace door's glass 2 cm outside a 1 cm threshold) [m].
+OFF_WALL_MIN_M = 0.05
 #: The plan's coordinates are rounded to this grid before noding (robust intersections) [m]: a
 #: micron, far below any drawing's precision, so a derived floor stays where the walls are.
 PRECISION_M = 1e-6
@@ -191,8 +194,54 @@ def plan_of(scene: Scene, floor_z: float) -> Plan:
 
 
 def level_windows(scene: Scene, floor_z: float) -> list[Window]:
-    """The windows whose glazing's middle lies between ``floor_z`` and :data:`WINDOW_MID_MAX_M` above it [m, local]."""
-    return [w for w in scene.windows if floor_z < 0.5 * (w.sill_z + w.head_z) <= floor_z + WINDOW_MID_MAX_M]
+    """The windows of a level [m, local]: those whose glazing's middle lies between ``floor_z`` and
+    :data:`WINDOW_MID_MAX_M` above it, and roof lights higher up that see the level
+    (:func:`roof_lights_over`: a roof light in a 2.7 m ceiling has its middle near 2.9 m)."""
+    low = [w for w in scene.windows if floor_z < 0.5 * (w.sill_z + w.head_z) <= floor_z + WINDOW_MID_MAX_M]
+    return low + roof_lights_over(scene, floor_z)
+
+
+#: A roof light lights a level when the first opaque face straight below its glazing's middle lies
+#: this far below the level's floor at most (finishes, a sunken floor) [m] ...
+ROOF_LIGHT_BELOW_M = 0.05
+
+
+def roof_lights_over(scene: Scene, floor_z: float) -> list[Window]:
+    """Roof lights (glazing facing up more than sideways) whose glazing lies above the level's eye
+    height, its middle higher than :data:`WINDOW_MID_MAX_M` above the floor, and sees the level: the first opaque face straight below the glazing's middle lies between
+    :data:`ROOF_LIGHT_BELOW_M` under ``floor_z`` and the eye height (:data:`CUT_HEIGHT_M`) above it
+    (the floor, or a table on it), not a slab between (the storey above's floor) [m, local]. A
+    light well or an atrium's void lets it see a lower level, which it then lights."""
+    out = []
+    roofs = [w for w in scene.windows if abs(float(w.normal[2])) >= 0.5 and w.sill_z > floor_z + CUT_HEIGHT_M
+             and 0.5 * (w.sill_z + w.head_z) > floor_z + WINDOW_MID_MAX_M]
+    if not roofs:
+        return out
+    opaque = scene.triangles[scene.layer != WINDOW]
+    tri = scene.vertices[opaque]  # (f, 3, 3)
+    lo, hi = tri[..., :2].min(axis=1), tri[..., :2].max(axis=1)
+    for w in roofs:  # one pass per roof light, vectorised over the faces under it
+        c = w.centroid[:2]
+        near = np.flatnonzero(np.all((lo <= c) & (hi >= c), axis=1))
+        z = _z_under(tri[near], c)
+        z = z[z < w.sill_z - SNAP_M]
+        if len(z) and floor_z - ROOF_LIGHT_BELOW_M <= z.max() <= floor_z + CUT_HEIGHT_M:
+            out.append(w)
+    return out
+
+
+def _z_under(tri: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Heights [m] at plan point ``c`` of the triangles (k, 3, 3) whose plan holds it (barycentric
+    coordinates, edges included); vertical triangles (no plan area) are left out."""
+    a, b, d = tri[:, 0], tri[:, 1], tri[:, 2]
+    v0, v1, v2 = b[:, :2] - a[:, :2], d[:, :2] - a[:, :2], c[None, :] - a[:, :2]
+    den = v0[:, 0] * v1[:, 1] - v1[:, 0] * v0[:, 1]
+    ok = np.abs(den) > 1e-12
+    den = np.where(ok, den, 1.0)
+    u = (v2[:, 0] * v1[:, 1] - v1[:, 0] * v2[:, 1]) / den
+    v = (v0[:, 0] * v2[:, 1] - v2[:, 0] * v0[:, 1]) / den
+    inside = ok & (u >= -1e-9) & (v >= -1e-9) & (u + v <= 1 + 1e-9)
+    return (a[:, 2] + u * (b[:, 2] - a[:, 2]) + v * (d[:, 2] - a[:, 2]))[inside]
 
 
 def cells_with_windows(scene: Scene, plan: Plan, windows: list[Window]) -> dict[int, list[Window]]:
@@ -309,7 +358,7 @@ def wall_off(scene: Scene, plan: Plan, window: Window, d: float, outward: np.nda
     pts = [np.asarray(p.coords)[0] for h in hits if not h.is_empty for p in shapely.get_parts(h) if p.geom_type == "Point"]
     e = [float(np.linalg.norm(p - c)) for p in pts]
     e = [x for x in e if 10 * SNAP_M < x < d - 10 * SNAP_M]
-    if not e:
+    if not e or min(e) < OFF_WALL_MIN_M:
         return ""
     off = min(e)
     return (f"lies {off:.2f} m outside its wall (its glazing {d:.2f} m from the room, the wall {d - off:.2f} m thick): "
