@@ -202,7 +202,8 @@ def test_ifc_spaces_on_a_file_without_spaces(tmp_path):
     p = project(tmp_path, house(tmp_path / "bare.ifc", with_spaces=False))
     r = CliRunner().invoke(cli, ["validate", str(p)])
     assert r.exit_code == 2 and r.output.count("\n") == 1
-    assert "rooms[0].ifc_spaces: the model has no IfcSpace; list the rooms with name and floor_z instead" in r.output
+    assert ("rooms[0].ifc_spaces: the model has no IfcSpace; make a room of every region its walls enclose with a window "
+            "(rooms: [{auto: true}]), or list the rooms with name and floor_z") in r.output
 
 
 def test_validate_lists_storeys_spaces_and_their_windows(ifc4, tmp_path):

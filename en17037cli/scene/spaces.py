@@ -287,7 +287,8 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     glob = getattr(spec, key) or "*"
     spaces = [(i, s) for i, (_, s) in enumerate(scene.spaces) if s.kind == kind]
     if not spaces:
-        raise InputError(f"{where}.{key}: the model has no {kind}; list the rooms with name and floor_z instead")
+        raise InputError(f"{where}.{key}: the model has no {kind}; make a room of every region its walls enclose with a "
+                         "window (rooms: [{auto: true}]), or list the rooms with name and floor_z")
     picked = [(i, s) for i, s in spaces
               if any(fnmatch.fnmatchcase(v, glob) for v in (s.name, s.long_name, s.id, room_name(s)) if v)]
     if not picked:
