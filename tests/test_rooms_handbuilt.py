@@ -245,3 +245,44 @@ def test_a_room_lit_by_a_roof_light_alone_gets_its_walls_region_and_auto_finds_i
                      for r in rooms.values())
         want = [(3.0 * k, 20.0, ("glass roof",) if k == storeys - 1 else (f"glass south {k + 1}",)) for k in range(storeys)]
         assert got == want, got
+
+
+def courtyard_block() -> dict:
+    """A 16 x 16 m block of four rooms round a 6 x 6 m courtyard (walls 0.25 m, rooms 2.7 m high,
+    a roof over the rooms, nothing over the courtyard); the south room has a window on the street
+    and one onto the courtyard, its glass flush with the wall's courtyard face."""
+    from en17037cli.samples.flat import box
+
+    t, H = 0.25, 2.7
+    walls = (box(-t, -t, 0, 7, 0, H) + box(9, -t, 0, 16 + t, 0, H) + box(7, -t, 0, 9, 0, 0.9) + box(7, -t, 2.2, 9, 0, H)
+             + box(-t, 16, 0, 16 + t, 16 + t, H) + box(-t, 0, 0, 0, 16, H) + box(16, 0, 0, 16 + t, 16, H)
+             + box(5 - t, 11, 0, 11 + t, 11 + t, H) + box(5 - t, 5 - t, 0, 5, 11 + t, H) + box(11, 5 - t, 0, 11 + t, 11 + t, H)
+             + box(5, 5 - t, 0, 7, 5, H) + box(9, 5 - t, 0, 11, 5, H) + box(7, 5 - t, 0, 9, 5, 0.9) + box(7, 5 - t, 2.2, 9, 5, H)
+             + box(0, 5 - t, 0, 5 - t, 5, H) + box(11 + t, 5 - t, 0, 16, 5, H) + box(0, 11, 0, 5 - t, 11 + t, H)
+             + box(11 + t, 11, 0, 16, 11 + t, H))
+    roof = (box(-t, -t, H, 16 + t, 5, H + 0.3) + box(-t, 11, H, 16 + t, 16 + t, H + 0.3) + box(-t, 5, H, 5, 11, H + 0.3)
+            + box(11, 5, H, 16 + t, 11, H + 0.3))
+    return {"walls": walls, "slabs": box(-t, -t, -0.3, 16 + t, 16 + t, 0) + roof,
+            "glass court": [[(7, 5, 0.9), (9, 5, 0.9), (9, 5, 2.2), (7, 5, 2.2)]],
+            "glass street": [[(7, -t / 2, 0.9), (9, -t / 2, 0.9), (9, -t / 2, 2.2), (7, -t / 2, 2.2)]],
+            "ground": [[(-60, -60, 0), (60, -60, 0), (60, 60, 0), (-60, 60, 0)]],
+            "neighbour": box(-10.0, -30.0, 0.0, 30.0, -20.0, 12.0)}
+
+
+def test_a_window_onto_a_courtyard_is_the_rooms_not_the_courtyards(tmp_path):
+    """A courtyard is a region the walls enclose with nothing over it; glazing flush with its
+    courtyard face lies nearer the courtyard than the room, and was the courtyard's: auto made the
+    courtyard a 36 m² room with that window and the south room lost it."""
+    from en17037cli.samples.box import write_obj
+
+    write_obj(tmp_path / "m.obj", courtyard_block())
+    doc = {"version": 1, "name": "court", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
+           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
+           "rooms": [{"auto": True}], "view": {}, "sunlight": {}}
+    (tmp_path / "p.yaml").write_text(yaml.safe_dump(doc))
+    rooms, scene = rooms_of(tmp_path / "p.yaml")
+    (room,) = rooms.values()  # the south room: the only one with windows
+    assert abs(room.floor.area - 16 * 4.75) <= 0.01 * 76  # x 0..16, y 0..4.75 (the courtyard's wall and partitions)
+    assert sorted(w.name for w in room.windows) == ["glass court", "glass street"]
+    court = next(w for w in room.windows if w.name == "glass court")
+    assert np.allclose(court.normal, [0, 1, 0])  # it faces the courtyard, away from the room

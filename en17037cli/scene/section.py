@@ -63,6 +63,7 @@ class Plan:
     floor_z: float
     walls: object
     cells: list
+    covered: object = None  # cell index -> bool (:func:`_covered`), where the plan came from a scene
 
 
 def _segments(scene: Scene, z: float, layers=(INTERIOR, WINDOW)) -> np.ndarray:
@@ -125,7 +126,23 @@ def plan_at(scene: Scene, floor_z: float) -> Plan:
     cells = [fill_small_holes(p.buffer(GAP_M / 2, join_style="mitre")) for p in free]
     rooms = [c for c in cells if not c.is_empty and c.area > 1e-4
              and shapely.length(shapely.maximum_inscribed_circle(c, SNAP_M)) >= MIN_ROOM_HALF_WIDTH_M]
-    return Plan(floor_z, walls, rooms)
+    memo: dict[int, bool] = {}
+
+    def covered(i: int) -> bool:
+        if i not in memo:
+            memo[i] = _covered(scene, rooms[i], floor_z)
+        return memo[i]
+
+    return Plan(floor_z, walls, rooms, covered)
+
+
+def _covered(scene: Scene, cell, floor_z: float) -> bool:
+    """Whether a region has a roof: horizontal interior faces at least a room's height above its
+    floor cover half of it (:func:`~en17037cli.scene.rooms.derive_ceiling` finds one). A courtyard
+    or a roofless light well is a region the walls enclose with nothing over it."""
+    from en17037cli.scene.rooms import derive_ceiling
+
+    return not derive_ceiling(scene, cell, floor_z)[1].startswith("no ceiling")
 
 
 def fill_small_holes(cell):
@@ -174,6 +191,10 @@ def window_cell(plan: Plan, window: Window, depth_m: float = PROBE_DEPTH_M) -> t
     if ip is None and im is None:
         return None, np.inf, h
     side = 1.0 if dp <= dm else -1.0
+    if ip is not None and im is not None and ip != im and plan.covered is not None:  # a region each side
+        roofed = {s_: plan.covered(first[s_][0]) for s_ in (1.0, -1.0)}
+        if roofed[1.0] != roofed[-1.0]:  # a room and a courtyard (nothing over it): the room's window
+            side = 1.0 if roofed[1.0] else -1.0
     i = first[side][0]
     d = float(plan.cells[i].distance(shapely.Point(c)))  # exact, not the probe's 5 mm step
     return i, d, -side * h  # the room lies towards side * h: outward is the other way
