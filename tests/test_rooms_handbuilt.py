@@ -286,3 +286,60 @@ def test_a_window_onto_a_courtyard_is_the_rooms_not_the_courtyards(tmp_path):
     assert sorted(w.name for w in room.windows) == ["glass court", "glass street"]
     court = next(w for w in room.windows if w.name == "glass court")
     assert np.allclose(court.normal, [0, 1, 0])  # it faces the courtyard, away from the room
+
+
+def double_height() -> dict:
+    """Two storeys 3 m apart, 10 x 5 m inside (walls 0.25 m): a double-height living room x 0..6
+    (5.7 m high, no slab at 3 m) beside rooms x 6.1..10 on both storeys; a south window low and one
+    high in each part."""
+    from en17037cli.samples.flat import box
+
+    t, top = 0.25, 5.7
+
+    def band(z0, z1, holes):
+        out, at = [], -t
+        for a, b, s, h in holes:
+            out += box(at, -t, z0, a, 0, z1) + box(a, -t, z0, b, 0, s) + box(a, -t, h, b, 0, z1)
+            at = b
+        return out + box(at, -t, z0, 10 + t, 0, z1)
+
+    walls = (band(0, 3, [(1, 3, 0.9, 2.2), (7, 9, 0.9, 2.2)]) + band(3, top, [(1, 3, 3.9, 5.2), (7, 9, 3.9, 5.2)])
+             + box(-t, 5, 0, 10 + t, 5 + t, top) + box(-t, 0, 0, 0, 5, top) + box(10, 0, 0, 10 + t, 5, top) + box(6, 0, 0, 6.1, 5, top))
+    out = {"walls": walls, "slabs": box(-t, -t, -0.3, 10 + t, 5 + t, 0) + box(6.1, 0, 2.7, 10, 5, 3.0) + box(-t, -t, top, 10 + t, 5 + t, top + 0.3),
+           "ground": [[(-60, -60, 0), (60, -60, 0), (60, 60, 0), (-60, 60, 0)]], "neighbour": box(-10.0, -30.0, 0.0, 20.0, -20.0, 12.0)}
+    for name, x0, z0, z1 in (("glass low L", 1, 0.9, 2.2), ("glass high L", 1, 3.9, 5.2), ("glass low R", 7, 0.9, 2.2),
+                             ("glass high R", 7, 3.9, 5.2)):
+        out[name] = [[(x0, -0.12, z0), (x0 + 2, -0.12, z0), (x0 + 2, -0.12, z1), (x0, -0.12, z1)]]
+    return out
+
+
+def test_the_void_over_a_double_height_room_is_no_room(tmp_path):
+    """At the upper storey the walls of a double-height living room enclose its void, with the high
+    window: auto made it a 30 m² room with no floor. The living room below has both its windows."""
+    from en17037cli.samples.box import write_obj
+
+    write_obj(tmp_path / "m.obj", double_height())
+    doc = {"version": 1, "name": "void", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
+           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
+           "rooms": [{"auto": True}], "view": {}, "sunlight": {}}
+    (tmp_path / "p.yaml").write_text(yaml.safe_dump(doc))
+    rooms, scene = rooms_of(tmp_path / "p.yaml")
+    got = sorted((round(float(r.floor_z + scene.origin[2]), 2), round(r.floor.area, 1), sorted(w.name for w in r.windows))
+                 for r in rooms.values())
+    assert got == [(0.0, 19.5, ["glass low R"]), (0.0, 30.0, ["glass high L", "glass low L"]), (3.0, 19.5, ["glass high R"])], got
+    assert any("1 region(s) at z 3.00 m with windows but no floor" in n for n in scene.notes)
+
+
+def test_a_room_given_by_name_over_the_void_is_warned_and_one_without_windows_skips_the_void(tmp_path):
+    from en17037cli.samples.box import write_obj
+
+    write_obj(tmp_path / "m.obj", double_height())
+    doc = {"version": 1, "name": "void", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
+           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
+           "rooms": [{"name": "up", "floor_z": 3, "windows": ["glass high L"]}, {"name": "right", "floor_z": 3}],
+           "view": {}, "sunlight": {}}
+    (tmp_path / "p.yaml").write_text(yaml.safe_dump(doc))
+    rooms, scene = rooms_of(tmp_path / "p.yaml")
+    assert [w for w in scene.warnings if "room 'up' has no floor under its region at floor_z = 3 m" in w]
+    assert not [w for w in scene.warnings if "room 'right'" in w]
+    assert abs(rooms["right"].floor.area - 19.5) < 0.2 and [w.name for w in rooms["right"].windows] == ["glass high R"]

@@ -76,6 +76,31 @@ def _area_samples(tri: np.ndarray, area: np.ndarray, n: int) -> np.ndarray:
     return (1 - r1)[:, None] * t[:, 0] + (r1 * (1 - r2))[:, None] * t[:, 1] + (r1 * r2)[:, None] * t[:, 2]
 
 
+#: An automatic room needs floor faces under this share of its region [-] ...
+FLOOR_COVER = 0.5
+#: ... within this height of its level [m] (finishes, a sunken floor).
+FLOOR_TOL_M = 0.15
+
+
+def floor_cover(scene: Scene, cell, floor_z: float) -> float:
+    """Share of a region (shapely Polygon, local xy [m]) that horizontal interior faces within
+    :data:`FLOOR_TOL_M` of ``floor_z`` [m, local] cover in plan: a room's floor, where the void over
+    a double-height room, a stair or light well have none."""
+    import shapely
+
+    tris = scene.faces_of(scene.layer == INTERIOR)
+    normals, areas = triangle_normals(tris)
+    z = tris[..., 2].mean(axis=1)
+    x0, y0, x1, y1 = cell.bounds
+    lo, hi = tris[..., :2].min(axis=1), tris[..., :2].max(axis=1)
+    cand = ((np.abs(normals[:, 2]) > 0.999) & (areas > 0) & (np.abs(z - floor_z) <= FLOOR_TOL_M)
+            & (lo[:, 0] < x1) & (hi[:, 0] > x0) & (lo[:, 1] < y1) & (hi[:, 1] > y0))
+    if not cand.any() or cell.area <= 0:
+        return 0.0
+    polys = shapely.make_valid(shapely.polygons(tris[cand][..., :2]))
+    return float(shapely.union_all(polys).intersection(cell).area / cell.area)
+
+
 def auto_rooms(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     """One room per region with a window at ``spec.floor_z`` (or at every storey), named
     ``z 3.00 room at (2.0, 4.5)`` (the level and a point inside the region, in the model's
@@ -96,6 +121,14 @@ def _rooms_at(scene: Scene, spec: RoomSpec, where: str, levels: list[float]) -> 
     for z in levels:
         plan = plan_of(scene, z)
         found = cells_with_windows(scene, plan, level_windows(scene, z))
+        floored = {i: floor_cover(scene, plan.cells[i], z) >= FLOOR_COVER for i in found}
+        if any(floored.values()):  # a level with floors: a region without one is a void, not a room
+            void = [i for i in found if not floored[i]]
+            for i in void:
+                found.pop(i)
+            if void:
+                scene.notes.append(f"{where}: {len(void)} region(s) at z {z + scene.origin[2]:.2f} m with windows but no floor "
+                                   "(the void over a double-height room, a well) are not rooms")
         for i in sorted(found, key=lambda k: (round(plan.cells[k].centroid.y, 1), round(plan.cells[k].centroid.x, 1))):
             p = plan.cells[i].representative_point()
             x, y = p.x + scene.origin[0], p.y + scene.origin[1]

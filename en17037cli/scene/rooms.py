@@ -182,6 +182,7 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
         if region is not None:
             poly, cell, plan = region
             source = "the region the walls enclose at eye height"
+            _warn_floorless(scene, spec, poly, floor_z, where)
         else:
             parts = floor_components(scene, floor_z)
             if not parts:
@@ -228,6 +229,29 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
     return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=poly, windows=windows, spec=spec,
                 floor_source=source, ceiling_z=ceiling_z, ceiling_source=ceiling_source, window_reasons=reasons,
                 problem=problem)
+
+
+def _warn_floorless(scene: Scene, spec: RoomSpec, poly, floor_z: float, where: str) -> None:
+    """A warning where a room's region has no floor at its level while the level has floors
+    elsewhere (:func:`~en17037cli.scene.auto_rooms.floor_cover`): the void over a double-height
+    room or a well, picked by a window of the room below or a point in the void."""
+    from en17037cli.scene.auto_rooms import FLOOR_COVER, floor_cover
+
+    if floor_cover(scene, poly, floor_z) >= FLOOR_COVER:
+        return
+    everywhere = shapely_box(scene)
+    if floor_cover(scene, everywhere, floor_z) > 0:
+        scene.warnings.append(f"{where}: room '{spec.name}' has no floor under its region at floor_z = {spec.floor_z:g} m "
+                              "(the void over a double-height room, a well?); check floor_z, inside and windows "
+                              "(validate --plan DIR draws the region)")
+
+
+def shapely_box(scene: Scene):
+    """The model's plan box (shapely Polygon, local xy [m])."""
+    import shapely
+
+    (x0, y0), (x1, y1) = scene.vertices[:, :2].min(axis=0), scene.vertices[:, :2].max(axis=0)
+    return shapely.box(x0, y0, x1, y1)
 
 
 def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, plan, floor_z: float, ceiling_z: float,

@@ -315,6 +315,11 @@ def room_cell(scene: Scene, spec, floor_z: float, where: str) -> tuple[object, i
     candidates = [w for w in (scene.windows if named else level_windows(scene, floor_z))
                   if not named or any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
     by_cell = cells_with_windows(scene, plan, candidates)
+    if len(by_cell) > 1 and not named:  # regions without a floor (a void, a well) are not rooms where others have one
+        from en17037cli.scene.auto_rooms import FLOOR_COVER, floor_cover
+
+        floored = {i: ws for i, ws in by_cell.items() if floor_cover(scene, plan.cells[i], floor_z) >= FLOOR_COVER}
+        by_cell = floored or by_cell
     if len(by_cell) == 1:
         i = next(iter(by_cell))
         return plan.cells[i], i, plan
