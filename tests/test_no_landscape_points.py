@@ -54,3 +54,15 @@ def test_the_layers_of_a_model_without_landscape_are_not_traced_and_nothing_else
         assert p["solid_angle_sr"] == {"sky": None, "landscape": None, "ground": None} and p["window_solid_angle_sr"] is None
         assert q["solid_angle_sr"]["sky"] > 0.01  # the sky through the window, traced
         assert p["point"] == q["point"] and p["horizontal_sight_angle_deg"] == q["horizontal_sight_angle_deg"]
+
+
+def test_a_view_whose_layers_cannot_be_judged_maps_sight_angle_and_distance_only(tmp_path):
+    """No landscape: the layers were not traced and no point has a level, so a map of either would
+    show 'none' over the whole room; the sight angle and distance maps are drawn, both printed."""
+    project = box_room_project(tmp_path / "p", BoxRoom(building_height=0), sunlight=None, view={"grid_spacing_m": 1.0,
+                                                                                                 "eye_heights_m": [1.2]})
+    r = CliRunner().invoke(cli, ["check", str(project), "--out", str(tmp_path / "r"), "-q", "--set", "requirements.sunlight=none"],
+                           catch_exceptions=False)
+    assert r.exit_code == 1, r.output
+    maps = sorted(p.name.split("-view-")[1] for p in (tmp_path / "r" / "figures").glob("*-view-*.png"))
+    assert maps == ["1.2m-distance.png", "1.2m-sight-angle.png"], maps

@@ -87,7 +87,9 @@ def limiting_map(level_by_criterion: dict) -> str:
 
 def view_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
     """The plan maps of room ``i``: four per eye height; the level map and the map of what limits
-    the level are printed with report.html, the other two are on screen only (``print_``)."""
+    the level are printed with report.html, the other two are on screen only (``print_``). Where
+    the layers cannot be judged (a model without landscape) only the sight angle and distance maps,
+    both printed: the layers were not traced and no point has a level."""
     r = result.rooms[i]
     res, plan = r.assessed("view"), r.illustrations.get("view")
     if res is None or plan is None:
@@ -103,14 +105,18 @@ def view_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
                   "distance": (v.distance_m, th.outside_distance_m.as_dict()),
                   "layers": (_layer_mask(v.visible), None), "level": (v.level.astype(float), None)}
         limiting = limiting_map(e.level_by_criterion)
-        for kind, words in MAP_KINDS.items():
+        kinds = MAP_KINDS
+        if res.layers_unassessable is not None:  # no landscape: no layers (not traced) and no level to map
+            kinds = {k: w for k, w in MAP_KINDS.items() if k in ("sight_angle", "distance")}
+        for kind, words in kinds.items():
             vals, thresholds = values[kind]
             title = f"{r.room.name}: {words}, eye height {e.eye_height_m:g} m"
             out.append(Job(f"{FIGURES_DIR}/{slug}-view-{e.eye_height_m:g}m-{kind.replace('_', '-')}.png", r.room.name, "view",
                            title, "plan_map", (xy, vals),
                            {"kind": kind, "thresholds": thresholds, "floor": plan.floor, "utilised": plan.utilised,
                             "windows": plan.windows, "true_north_deg": plan.true_north_deg, "near": v.near,
-                            "spacing_m": plan.spacing_m, "title": title}, print_=kind in ("level", limiting)))
+                            "spacing_m": plan.spacing_m, "title": title},
+                           print_=kind in ("level", limiting) or res.layers_unassessable is not None))
     return out
 
 

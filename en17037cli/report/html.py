@@ -169,6 +169,15 @@ def _model_files(report: dict) -> str:
     return _table(rows)
 
 
+_CLAUSES = {"daylight": "5.1 (daylight provision)", "view": "5.2 (view out)", "sunlight": "5.3 (exposure to sunlight)"}
+
+
+def _clauses(report: dict) -> str:
+    """``clauses 5.2 (view out) and 5.3 (exposure to sunlight)``: the clauses this report checks."""
+    names = [v for k, v in _CLAUSES.items() if any(room.get(k) for room in report["rooms"])] or list(_CLAUSES.values())
+    return ("clause " if len(names) == 1 else "clauses ") + (names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1])
+
+
 def report_html(report: dict, figures=()) -> str:
     """The HTML report of a report document and its pictures (see the module docstring)."""
     title = f"EN 17037 check: {report['project']['name']}"
@@ -183,8 +192,7 @@ def report_html(report: dict, figures=()) -> str:
          f"<h1>{escape(title)}</h1>",
          f'<p><span class="verdict {status}">{status}</span> '
          f'<span class="small">en17037cli {escape(report["tool"]["version"])}, project file '
-         f'<code>{escape(report["project"]["file"])}</code>; EN 17037:2018+A1:2021 clauses 5.1 (daylight provision), 5.2 '
-         "(view out) and 5.3 (exposure to sunlight).</span></p>"]
+         f'<code>{escape(report["project"]["file"])}</code>; EN 17037:2018+A1:2021 {_clauses(report)}.</span></p>']
     if report["project"].get("description"):
         H.append(f"<p>{escape(report['project']['description'])}</p>")
     H.append('<h2 id="verdict">Verdict</h2>')

@@ -581,3 +581,46 @@ def test_an_error_bound_rounded_to_zero_is_not_printed_as_zero():
     assert fmt_bound(0.005467) == "≤ 0.005467"
     assert fmt_bound(0.0, nd=4) == "< 5e-05"
     assert fmt_bound(None) == "n/a"
+
+
+def _svg_texts(svg) -> list[tuple[str, float, float, str]]:
+    """(text, x, y, anchor) of every <text> of an SVG picture (fonts kept as text)."""
+    import re
+
+    s = svg.decode() if isinstance(svg, bytes) else svg
+    out = []
+    for m in re.finditer(r'<text style="([^"]*)" x="([-\d.]+)" y="([-\d.]+)"[^>]*>([^<]*)</text>', s):
+        anchor = re.search(r"text-anchor: (\w+)", m[1])
+        out.append((m[4], float(m[2]), float(m[3]), anchor[1] if anchor else "start"))
+    return out
+
+
+def test_fisheye_path_labels_at_the_rim_stay_in_the_picture_and_apart():
+    """A window facing west sees the February and March paths top out at the left rim (south): their
+    labels were centred there, half over the picture's edge, one on the other (SampleHouse4's
+    living room). Labelled inwards, the second under the first."""
+    path = lambda label, top: {"label": label, "azimuth_deg": np.linspace(182, 240, 30), "altitude_deg": np.linspace(top, 2, 30),
+                               "visible": np.ones(30, bool), "hour_marks": []}
+    svg = P.fisheye(np.full((64, 64), P.CLASS_SKY, dtype=np.int8), sun_paths=[path("21 Mar (last day)", 35),
+                    path("1 Feb (first day, assessed)", 30)], min_altitude_deg=11.0, view_azimuth_deg=270.0, fmt="svg")
+    labels = {t: (x, y, a) for t, x, y, a in _svg_texts(svg) if "Mar" in t or "Feb" in t}
+    assert len(labels) == 2
+    for x, _, anchor in labels.values():
+        assert anchor == "start" and x >= 0  # drawn rightwards from inside the picture
+    (_, y1, _), (_, y2, _) = labels.values()
+    assert abs(y1 - y2) >= 8  # one 8 pt line apart at least
+
+
+def test_hours_chart_names_at_most_three_windows_shortened_in_the_middle():
+    from en17037cli.report.pictures.charts import MAX_NAME_CHARS, _short
+
+    dates = [dt.date(2026, 2, 1) + dt.timedelta(days=i) for i in range(10)]
+    long = {f"M_Fixed:4835mm x 2420mm:{k}": np.full(10, 1.0 + i) for i, k in enumerate((146016, 171975))}
+    texts = [t for t, *_ in _svg_texts(P.hours_chart(dates, np.full(10, 3.0), thresholds={"minimum": 1.5, "medium": 3, "high": 4},
+                                                     assessed_index=0, per_window=long, fmt="svg"))]
+    assert [t for t in texts if t.startswith("window ")] == [f"window {_short(n)}" for n in long]
+    assert all(len(_short(n)) == MAX_NAME_CHARS and _short(n).endswith(n[-8:]) for n in long)  # the id kept
+    many = {f"w{k}": np.full(10, 1.0) for k in range(4)}
+    texts = [t for t, *_ in _svg_texts(P.hours_chart(dates, np.full(10, 3.0), thresholds={"minimum": 1.5, "medium": 3, "high": 4},
+                                                     assessed_index=0, per_window=many, fmt="svg"))]
+    assert not [t for t in texts if t.startswith("window ")]  # four windows: the table names them, not a legend

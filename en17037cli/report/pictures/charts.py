@@ -20,6 +20,21 @@ def _date_label(d) -> str:
     return f"{d.day} {_MONTHS[d.month - 1]}"
 
 
+#: Each window's hours are drawn as a line for at most this many windows; with more, the chart
+#: keeps the room's bars (each window's hours on the assessed day are in the report's table).
+MAX_WINDOW_LINES = 3
+#: Window names in the chart's legend are cut to this many characters, in the middle (exporters
+#: put the type first and the element's id last: both ends tell windows apart).
+MAX_NAME_CHARS = 26
+
+
+def _short(name: str) -> str:
+    if len(name) <= MAX_NAME_CHARS:
+        return name
+    half = (MAX_NAME_CHARS - 1) // 2
+    return name[:half] + "…" + name[len(name) - (MAX_NAME_CHARS - 1 - half):]
+
+
 def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_window: dict | None = None, title: str = "",
                 fmt: str = "png"):
     """Sun hours per day over the assessment period, with the level thresholds and the assessed day.
@@ -30,7 +45,8 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
     hours : (d,) float [h], the room's hours of sunlight each day
     thresholds : dict {"minimum", "medium", "high"} [h]
     assessed_index : int, position of the assessed day in ``dates`` (its bar is dark and hatched)
-    per_window : dict name -> (d,) float [h], optional; each window's hours as thin lines
+    per_window : dict name -> (d,) float [h], optional; each window's hours as thin lines (at most
+        :data:`MAX_WINDOW_LINES` windows, named in a legend above the axes)
     title : str, not drawn: the reports caption the picture
     fmt : "png", "svg" or "both"
 
@@ -50,7 +66,9 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
         from matplotlib.patches import Rectangle
         from matplotlib.ticker import FixedLocator, FuncFormatter, MultipleLocator
 
-        ax = fig.add_axes((0.14, 0.14, 0.60, 0.80))
+        lines = per_window if per_window and len(per_window) <= MAX_WINDOW_LINES else None
+        top_band = 0.065 * len(lines) if lines else 0.0  # the legend's rows, above the axes
+        ax = fig.add_axes((0.17, 0.14, 0.57, 0.80 - top_band))
         x = np.arange(d)
         top = np.nan_to_num(hrs)
         others = np.flatnonzero(x != k)
@@ -67,11 +85,11 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
                         va="bottom", fontsize=8, bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none",
                                                        "alpha": 0.85})
         ymax = max([float(np.nanmax(hrs)) if np.isfinite(hrs).any() else 0.0] + [float(v) for v in thresholds.values()])
-        if per_window:
-            for i, (name, v) in enumerate(per_window.items()):
+        if lines:
+            for i, (name, v) in enumerate(lines.items()):
                 w = np.asarray(v, dtype=float).reshape(-1)
                 ax.plot(x, w, color="black", linewidth=0.8, linestyle=("-", (0, (3, 1.5)), (0, (1, 1.5)), (0, (5, 1.5, 1, 1.5)))[i % 4],
-                        label=f"window {name}")
+                        label=f"window {_short(name)}")
                 if np.isfinite(w).any():
                     ymax = max(ymax, float(np.nanmax(w)))
         for name, ls in (("minimum", (0, (1, 1.5))), ("medium", (0, (4, 2))), ("high", "-")):
@@ -88,8 +106,9 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
         ax.xaxis.set_major_locator(FixedLocator(ticks))
         ax.set_xticklabels([_date_label(dates[i]) for i in ticks])
         ax.spines[["top", "right"]].set_visible(False)
-        if per_window:
-            fig.legend(loc="upper right", bbox_to_anchor=(0.74, 0.99), fontsize=8, ncols=min(len(per_window), 3))
+        if lines:
+            fig.legend(loc="upper left", bbox_to_anchor=(0.13, 1.0), fontsize=8, ncols=1, frameon=False,
+                       borderaxespad=0.2, handlelength=2.5)
 
     return _render(draw, (CHART_SIZE_IN[0] * 100, CHART_SIZE_IN[1] * 100), fmt=fmt)
 

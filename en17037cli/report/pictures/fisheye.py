@@ -22,6 +22,11 @@ FISHEYE_SIZE_IN = (5.0, 3.6)
 #: Fisheye: centre of the 180 deg circle [px] (column, row from the top of the PNG) and its radius [px].
 FISHEYE_CENTRE_PX = (160, 185)
 FISHEYE_RADIUS_PX = 140
+#: A sun path whose top lies farther than this from the vertical through the centre (in units of
+#: the radius) is labelled inwards from its top [-] ...
+LABEL_INWARD = 0.3
+#: ... and a path label closer than this to one already drawn, across, goes under it [px].
+LABEL_CLEAR_PX = 110
 #: Hour labels closer than this to one already drawn are left out [px] (at 8 pt printed at PRINT_SCALE,
 #: "07:00" is 51 px wide).
 HOUR_LABEL_GAP_PX = 56
@@ -132,6 +137,7 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
         line(mx, my, color="black", linewidth=1.8)
         line(mx, my, color="white", linewidth=0.9, linestyle=(0, (3, 2)))
         marks: dict[str, list] = {}
+        placed: list[tuple[float, float]] = []  # the path labels drawn: (x [-1, 1], y [px] above the centre)
         for p in sun_paths:
             a = np.asarray(p["azimuth_deg"], dtype=float).reshape(-1)
             h = np.asarray(p["altitude_deg"], dtype=float).reshape(-1)
@@ -151,7 +157,14 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
                     line(jx, jy, color=colours.SUN_PATH_COLOUR, linewidth=lw, linestyle=ls, solid_capstyle="butt")
             top = int(np.argmax(np.where(ok, y, -np.inf)))
             if p.get("label"):
-                    text(x[top], y[top], str(p["label"]), dy=4, ha="center", va="bottom", fontsize=8,
+                # a path whose top is at the rim (a window facing east or west) is labelled inwards, not
+                # over the picture's edge; a label on one already drawn goes under it
+                ha = "left" if x[top] < -LABEL_INWARD else "right" if x[top] > LABEL_INWARD else "center"
+                dy = 4.0
+                while any(abs(x[top] - ox) * R < LABEL_CLEAR_PX and abs(y[top] * R + dy * pt - oy) < 11 * pt for ox, oy in placed):
+                    dy -= 11.0
+                placed.append((float(x[top]), float(y[top] * R + dy * pt)))
+                text(x[top], y[top], str(p["label"]), dy=dy, ha=ha, va="bottom", fontsize=8,
                      bbox=boxed | {"boxstyle": "round,pad=0.15"})
             for ma, mh, lab in p.get("hour_marks", ()):
                 hx, hy = fisheye_xy(ma, mh, view_azimuth_deg)
