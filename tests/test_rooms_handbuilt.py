@@ -43,6 +43,20 @@ def rooms_of(path: Path) -> dict:
     return {r.name: r for r in scene.rooms}, scene
 
 
+def model_project(folder: Path, objects: dict, rooms: list, name: str = "p.yaml") -> Path:
+    """``objects`` written as ``m.obj`` in ``folder`` (once) and a project ``name`` with ``rooms``."""
+    from en17037cli.samples.box import write_obj
+
+    folder.mkdir(parents=True, exist_ok=True)
+    if not (folder / "m.obj").exists():
+        write_obj(folder / "m.obj", objects)
+    doc = {"version": 1, "name": "model", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
+           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
+           "rooms": rooms, "view": {}, "sunlight": {}}
+    (folder / name).write_text(yaml.safe_dump(doc))
+    return folder / name
+
+
 def assert_room(room, name: str, storey: int = 0):
     area, height, windows = room_truth(name, storey)
     assert abs(room.floor.area - area) <= 0.01 * area, (room.name, room.floor.area, area)
@@ -226,21 +240,11 @@ def test_a_room_lit_by_a_roof_light_alone_gets_its_walls_region_and_auto_finds_i
     was no window of its level, so a room given by name took its floor from the slab (24.75 m²,
     the walls' footprint included) and auto found no room. It lights the level it sees straight
     below; the storey under it (behind a slab) is not lit by it."""
-    from en17037cli.samples.box import write_obj
-
     for storeys in (1, 2):
-        d = tmp_path / f"s{storeys}"
-        d.mkdir()
-        write_obj(d / "m.obj", roof_lit(storeys))
-        top = 3.0 * (storeys - 1)
-        doc = {"version": 1, "name": "roof", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
-               "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
-               "rooms": [{"name": "top", "floor_z": top}], "view": {}, "sunlight": {}}
-        (d / "named.yaml").write_text(yaml.safe_dump(doc))
-        rooms, _ = rooms_of(d / "named.yaml")
+        d, objects = tmp_path / f"s{storeys}", roof_lit(storeys)
+        rooms, _ = rooms_of(model_project(d, objects, [{"name": "top", "floor_z": 3.0 * (storeys - 1)}], "named.yaml"))
         assert abs(rooms["top"].floor.area - 20.0) <= 0.2 and [w.name for w in rooms["top"].windows] == ["glass roof"]
-        (d / "auto.yaml").write_text(yaml.safe_dump(doc | {"rooms": [{"auto": True}]}))
-        rooms, scene = rooms_of(d / "auto.yaml")
+        rooms, scene = rooms_of(model_project(d, objects, [{"auto": True}], "auto.yaml"))
         got = sorted((round(float(r.floor_z + scene.origin[2]), 2), round(r.floor.area, 1), tuple(w.name for w in r.windows))
                      for r in rooms.values())
         want = [(3.0 * k, 20.0, ("glass roof",) if k == storeys - 1 else (f"glass south {k + 1}",)) for k in range(storeys)]
@@ -273,14 +277,7 @@ def test_a_window_onto_a_courtyard_is_the_rooms_not_the_courtyards(tmp_path):
     """A courtyard is a region the walls enclose with nothing over it; glazing flush with its
     courtyard face lies nearer the courtyard than the room, and was the courtyard's: auto made the
     courtyard a 36 m² room with that window and the south room lost it."""
-    from en17037cli.samples.box import write_obj
-
-    write_obj(tmp_path / "m.obj", courtyard_block())
-    doc = {"version": 1, "name": "court", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
-           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
-           "rooms": [{"auto": True}], "view": {}, "sunlight": {}}
-    (tmp_path / "p.yaml").write_text(yaml.safe_dump(doc))
-    rooms, scene = rooms_of(tmp_path / "p.yaml")
+    rooms, scene = rooms_of(model_project(tmp_path, courtyard_block(), [{"auto": True}]))
     (room,) = rooms.values()  # the south room: the only one with windows
     assert abs(room.floor.area - 16 * 4.75) <= 0.01 * 76  # x 0..16, y 0..4.75 (the courtyard's wall and partitions)
     assert sorted(w.name for w in room.windows) == ["glass court", "glass street"]
@@ -316,14 +313,7 @@ def double_height() -> dict:
 def test_the_void_over_a_double_height_room_is_no_room(tmp_path):
     """At the upper storey the walls of a double-height living room enclose its void, with the high
     window: auto made it a 30 m² room with no floor. The living room below has both its windows."""
-    from en17037cli.samples.box import write_obj
-
-    write_obj(tmp_path / "m.obj", double_height())
-    doc = {"version": 1, "name": "void", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
-           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
-           "rooms": [{"auto": True}], "view": {}, "sunlight": {}}
-    (tmp_path / "p.yaml").write_text(yaml.safe_dump(doc))
-    rooms, scene = rooms_of(tmp_path / "p.yaml")
+    rooms, scene = rooms_of(model_project(tmp_path, double_height(), [{"auto": True}]))
     got = sorted((round(float(r.floor_z + scene.origin[2]), 2), round(r.floor.area, 1), sorted(w.name for w in r.windows))
                  for r in rooms.values())
     assert got == [(0.0, 19.5, ["glass low R"]), (0.0, 30.0, ["glass high L", "glass low L"]), (3.0, 19.5, ["glass high R"])], got
@@ -331,15 +321,8 @@ def test_the_void_over_a_double_height_room_is_no_room(tmp_path):
 
 
 def test_a_room_given_by_name_over_the_void_is_warned_and_one_without_windows_skips_the_void(tmp_path):
-    from en17037cli.samples.box import write_obj
-
-    write_obj(tmp_path / "m.obj", double_height())
-    doc = {"version": 1, "name": "void", "model": {"files": [{"path": "m.obj", "layers": LAYERS}]},
-           "location": {"latitude": 52.0, "longitude": 4.36, "timezone": "Europe/Amsterdam"},
-           "rooms": [{"name": "up", "floor_z": 3, "windows": ["glass high L"]}, {"name": "right", "floor_z": 3}],
-           "view": {}, "sunlight": {}}
-    (tmp_path / "p.yaml").write_text(yaml.safe_dump(doc))
-    rooms, scene = rooms_of(tmp_path / "p.yaml")
+    rooms, scene = rooms_of(model_project(tmp_path, double_height(), [{"name": "up", "floor_z": 3, "windows": ["glass high L"]},
+                                                                      {"name": "right", "floor_z": 3}]))
     assert [w for w in scene.warnings if "room 'up' has no floor under its region at floor_z = 3 m" in w]
     assert not [w for w in scene.warnings if "room 'right'" in w]
     assert abs(rooms["right"].floor.area - 19.5) < 0.2 and [w.name for w in rooms["right"].windows] == ["glass high R"]

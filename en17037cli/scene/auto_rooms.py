@@ -12,7 +12,7 @@ import numpy as np
 from en17037cli.geometry import in_triangle, triangle_normals
 from en17037cli.project.settings import RoomSpec
 from en17037cli.scene.model import INTERIOR, Room, Scene
-from en17037cli.scene.rooms import MIN_ROOM_HEIGHT_M
+from en17037cli.scene.rooms import MIN_ROOM_HEIGHT_M, horizontal_faces
 
 #: A level of upward-facing horizontal interior faces is a storey's floor when they cover at least this [m²].
 MIN_LEVEL_AREA_M2 = 4.0
@@ -82,19 +82,22 @@ FLOOR_COVER = 0.5
 FLOOR_TOL_M = 0.15
 
 
+def floor_faces(scene: Scene, floor_z: float) -> np.ndarray:
+    """Which of :func:`~en17037cli.scene.rooms.horizontal_faces` lie within :data:`FLOOR_TOL_M` of
+    ``floor_z`` [m, local]: (k,) bool."""
+    return np.abs(horizontal_faces(scene)[1] - floor_z) <= FLOOR_TOL_M
+
+
 def floor_cover(scene: Scene, cell, floor_z: float) -> float:
     """Share of a region (shapely Polygon, local xy [m]) that horizontal interior faces within
     :data:`FLOOR_TOL_M` of ``floor_z`` [m, local] cover in plan: a room's floor, where the void over
     a double-height room, a stair or light well have none."""
     import shapely
 
-    tris = scene.faces_of(scene.layer == INTERIOR)
-    normals, areas = triangle_normals(tris)
-    z = tris[..., 2].mean(axis=1)
+    tris = horizontal_faces(scene)[0]
     x0, y0, x1, y1 = cell.bounds
     lo, hi = tris[..., :2].min(axis=1), tris[..., :2].max(axis=1)
-    cand = ((np.abs(normals[:, 2]) > 0.999) & (areas > 0) & (np.abs(z - floor_z) <= FLOOR_TOL_M)
-            & (lo[:, 0] < x1) & (hi[:, 0] > x0) & (lo[:, 1] < y1) & (hi[:, 1] > y0))
+    cand = floor_faces(scene, floor_z) & (lo[:, 0] < x1) & (hi[:, 0] > x0) & (lo[:, 1] < y1) & (hi[:, 1] > y0)
     if not cand.any() or cell.area <= 0:
         return 0.0
     polys = shapely.make_valid(shapely.polygons(tris[cand][..., :2]))

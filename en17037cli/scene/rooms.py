@@ -65,6 +65,19 @@ def floor_components(scene: Scene, floor_z: float):
     return [union] if union.geom_type == "Polygon" else [g for g in getattr(union, "geoms", []) if g.geom_type == "Polygon"]
 
 
+def horizontal_faces(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """The horizontal interior faces of ``scene`` (|normal z| > 0.999, with area) and their mean
+    heights: (k, 3, 3) [m, local], (k,) [m]; made once per scene (ceilings and floors of every room
+    look them up)."""
+    hit = scene.__dict__.get("_horizontal")
+    if hit is None:
+        tris = scene.faces_of(scene.layer == INTERIOR)
+        normals, areas = triangle_normals(tris)
+        keep = (np.abs(normals[:, 2]) > 0.999) & (areas > 0)
+        hit = scene.__dict__["_horizontal"] = (tris[keep], tris[keep][..., 2].mean(axis=1))
+    return hit
+
+
 def derive_ceiling(scene: Scene, floor, floor_z: float) -> tuple[float, str]:
     """Ceiling level [m, local] over a floor: the lowest level of horizontal interior faces at least
     :data:`MIN_ROOM_HEIGHT_M` above it whose faces cover at least :data:`CEILING_COVER` of the floor
@@ -72,10 +85,8 @@ def derive_ceiling(scene: Scene, floor, floor_z: float) -> tuple[float, str]:
     most of it; else floor + :data:`DEFAULT_ROOM_HEIGHT_M`."""
     import shapely
 
-    tris = scene.faces_of(scene.layer == INTERIOR)
-    normals, areas = triangle_normals(tris)
-    z = tris[..., 2].mean(axis=1)
-    cand = (np.abs(normals[:, 2]) > 0.999) & (z >= floor_z + MIN_ROOM_HEIGHT_M) & (areas > 0)
+    tris, z = horizontal_faces(scene)
+    cand = z >= floor_z + MIN_ROOM_HEIGHT_M
     x0, y0, x1, y1 = floor.bounds
     lo, hi = tris[..., :2].min(axis=1), tris[..., :2].max(axis=1)
     cand &= (lo[:, 0] < x1) & (hi[:, 0] > x0) & (lo[:, 1] < y1) & (hi[:, 1] > y0)  # over the floor's box
@@ -235,23 +246,12 @@ def _warn_floorless(scene: Scene, spec: RoomSpec, poly, floor_z: float, where: s
     """A warning where a room's region has no floor at its level while the level has floors
     elsewhere (:func:`~en17037cli.scene.auto_rooms.floor_cover`): the void over a double-height
     room or a well, picked by a window of the room below or a point in the void."""
-    from en17037cli.scene.auto_rooms import FLOOR_COVER, floor_cover
+    from en17037cli.scene.auto_rooms import FLOOR_COVER, floor_cover, floor_faces
 
-    if floor_cover(scene, poly, floor_z) >= FLOOR_COVER:
-        return
-    everywhere = shapely_box(scene)
-    if floor_cover(scene, everywhere, floor_z) > 0:
+    if floor_cover(scene, poly, floor_z) < FLOOR_COVER and floor_faces(scene, floor_z).any():
         scene.warnings.append(f"{where}: room '{spec.name}' has no floor under its region at floor_z = {spec.floor_z:g} m "
                               "(the void over a double-height room, a well?); check floor_z, inside and windows "
                               "(validate --plan DIR draws the region)")
-
-
-def shapely_box(scene: Scene):
-    """The model's plan box (shapely Polygon, local xy [m])."""
-    import shapely
-
-    (x0, y0), (x1, y1) = scene.vertices[:, :2].min(axis=0), scene.vertices[:, :2].max(axis=0)
-    return shapely.box(x0, y0, x1, y1)
 
 
 def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, plan, floor_z: float, ceiling_z: float,

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from en17037cli.geometry import cut_triangles
+from en17037cli.geometry import cut_triangles, in_triangle
 from en17037cli.scene.model import INTERIOR, WINDOW, Scene, Window
 
 #: Height of the plan cut above the floor [m]: the lower eye height of EN 17037, where the view is
@@ -252,17 +252,13 @@ def roof_lights_over(scene: Scene, floor_z: float) -> list[Window]:
 
 
 def _z_under(tri: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Heights [m] at plan point ``c`` of the triangles (k, 3, 3) whose plan holds it (barycentric
-    coordinates, edges included); vertical triangles (no plan area) are left out."""
-    a, b, d = tri[:, 0], tri[:, 1], tri[:, 2]
-    v0, v1, v2 = b[:, :2] - a[:, :2], d[:, :2] - a[:, :2], c[None, :] - a[:, :2]
-    den = v0[:, 0] * v1[:, 1] - v1[:, 0] * v0[:, 1]
-    ok = np.abs(den) > 1e-12
-    den = np.where(ok, den, 1.0)
-    u = (v2[:, 0] * v1[:, 1] - v1[:, 0] * v2[:, 1]) / den
-    v = (v0[:, 0] * v2[:, 1] - v2[:, 0] * v0[:, 1]) / den
-    inside = ok & (u >= -1e-9) & (v >= -1e-9) & (u + v <= 1 + 1e-9)
-    return (a[:, 2] + u * (b[:, 2] - a[:, 2]) + v * (d[:, 2] - a[:, 2]))[inside]
+    """Heights [m] at plan point ``c`` of the triangles (k, 3, 3) whose plan holds it
+    (:func:`~en17037cli.geometry.in_triangle`, edges included), from each triangle's plane;
+    vertical triangles (no plan area) are left out."""
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    ok = (np.abs(n[:, 2]) > 1e-12) & in_triangle(np.broadcast_to(c, (len(tri), 2)), tri[..., :2])
+    a, n = tri[ok, 0], n[ok]
+    return a[:, 2] - (n[:, 0] * (c[0] - a[:, 0]) + n[:, 1] * (c[1] - a[:, 1])) / n[:, 2]
 
 
 def cells_with_windows(scene: Scene, plan: Plan, windows: list[Window]) -> dict[int, list[Window]]:
