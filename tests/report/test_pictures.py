@@ -589,9 +589,11 @@ def _svg_texts(svg) -> list[tuple[str, float, float, str]]:
 
     s = svg.decode() if isinstance(svg, bytes) else svg
     out = []
-    for m in re.finditer(r'<text style="([^"]*)" x="([-\d.]+)" y="([-\d.]+)"[^>]*>([^<]*)</text>', s):
+    for m in re.finditer(r'<text style="([^"]*)" (?:x="([-\d.]+)" y="([-\d.]+)"|transform="translate\(([-\d.]+) ([-\d.]+)\)")'
+                         r'[^>]*>([^<]*)</text>', s):  # one line at x, y; a line of several at translate(x y)
         anchor = re.search(r"text-anchor: (\w+)", m[1])
-        out.append((m[4], float(m[2]), float(m[3]), anchor[1] if anchor else "start"))
+        x, y = (m[2], m[3]) if m[2] is not None else (m[4], m[5])
+        out.append((m[6], float(x), float(y), anchor[1] if anchor else "start"))
     return out
 
 
@@ -624,3 +626,18 @@ def test_hours_chart_names_at_most_three_windows_shortened_in_the_middle():
     texts = [t for t, *_ in _svg_texts(P.hours_chart(dates, np.full(10, 3.0), thresholds={"minimum": 1.5, "medium": 3, "high": 4},
                                                      assessed_index=0, per_window=many, fmt="svg"))]
     assert not [t for t in texts if t.startswith("window ")]  # four windows: the table names them, not a legend
+
+
+def test_hours_chart_assessed_label_stays_left_of_the_threshold_labels():
+    """FZK-Haus's office, assessed 16 Feb (16th of 49 days): 'assessed 16 Feb: 2 h 42 min' on one
+    line ran into 'medium 3:00' right of the axes. On two lines, each ends before the threshold
+    labels begin (width bound: 0.62 em a character, DejaVu Sans's widest digits and letters)."""
+    dates = [dt.date(2026, 2, 1) + dt.timedelta(days=i) for i in range(49)]
+    hours = np.linspace(2.9, 3.9, 49)
+    hours[15] = 2.7
+    texts = _svg_texts(P.hours_chart(dates, hours, thresholds={"minimum": 1.5, "medium": 3, "high": 4}, assessed_index=15,
+                                     fmt="svg"))
+    medium_x = next(x for t, x, _, _ in texts if t.startswith("medium"))
+    lines = [(t, x) for t, x, _, a in texts if t.startswith("assessed") or t == "2 h 42 min"]
+    assert [t for t, _ in lines] == ["assessed 16 Feb:", "2 h 42 min"], texts
+    assert all(x + 0.62 * 8 * len(t) < medium_x for t, x in lines)

@@ -80,7 +80,8 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
             # beside the bar's top, inside the axes (right of the assessed bar, left of it near the period's end):
             # never over the y tick labels
             right = k < 0.6 * d
-            ax.annotate(f"assessed {_date_label(dates[k])}: {fmt_duration(hrs[k])}", (k, float(np.nan_to_num(hrs[k]))),
+            # two lines: one ran into the threshold labels right of the axes (FZK-Haus: assessed 16 Feb)
+            ax.annotate(f"assessed {_date_label(dates[k])}:\n{fmt_duration(hrs[k])}", (k, float(np.nan_to_num(hrs[k]))),
                         xytext=(6 if right else -6, 3), textcoords="offset points", ha="left" if right else "right",
                         va="bottom", fontsize=8, bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none",
                                                        "alpha": 0.85})
