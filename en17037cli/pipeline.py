@@ -55,7 +55,15 @@ class RoomResult:
 
     def level(self, criterion: str) -> str | None:
         r = self.assessed(criterion)
-        if r is None or CRITERIA[criterion].unassessable(r) is not None:
+        if r is None or CRITERIA[criterion].unassessable(r) is not None or self.room.withheld is not None:
+            return None
+        return standard.level_name(CRITERIA[criterion].level(r))
+
+    def level_without_withheld(self, criterion: str) -> str | None:
+        """The level computed for a room whose verdict is withheld (:attr:`Room.withheld`): a lower
+        bound, reached without its quarantined windows; None elsewhere."""
+        r = self.assessed(criterion)
+        if self.room.withheld is None or r is None or CRITERIA[criterion].unassessable(r) is not None:
             return None
         return standard.level_name(CRITERIA[criterion].level(r))
 
@@ -67,7 +75,7 @@ class RoomResult:
         r = self.results.get(criterion)
         if isinstance(r, Unassessed):
             return r.status
-        if r is not None and CRITERIA[criterion].unassessable(r) is not None:
+        if r is not None and (CRITERIA[criterion].unassessable(r) is not None or self.room.withheld is not None):
             return "not_assessable"
         level = self.level(criterion)
         return None if level is None else standard.status(level, self.required(criterion))

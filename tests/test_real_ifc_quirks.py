@@ -3,7 +3,7 @@ one-room model written with ifcopenshell.api (en17037cli.samples.ifc.Builder):
 
 * a window whose glass has no transparent style (older ArchiCAD, BlenderBIM): its pane from its geometry;
 * a window's own frame flush with its glass: its frame, never "glazing on an opaque face";
-* glass on the face of a wall that has no opening for it: an input error naming the wall by
+* glass on the face of a wall that has no opening for it: quarantined, naming the wall by
   class, Name and GlobalId, with what a project file can do about it;
 * a railing in the room in front of a jamb: point P stays on the wall's room-side face;
 * space boundaries that name one of the room's two windows: both are its windows;
@@ -98,15 +98,14 @@ def test_glass_without_a_transparent_style_is_taken_from_the_geometry(tmp_path):
 
 
 def test_own_frame_is_no_error_and_an_uncut_wall_names_the_wall(tmp_path):
-    """The frame around the glass is the window's own (no error). Glass lying on a wall's face
-    with no opening: one line naming the window and the wall (class, Name, GlobalId) and the two
-    things a project file can do (leave the window out, or the wall)."""
-    scene_of(tmp_path)  # frame and glass of one product: fine
-    with pytest.raises(InputError) as e:
-        scene_of(tmp_path, uncut=True)
-    msg = str(e.value)
+    """The frame around the glass is the window's own (nothing said). Glass lying on a wall's face
+    with no opening: quarantined (never the model), named with the wall (class, Name, GlobalId)
+    and the two things a project file can do (leave the window out, or the wall)."""
+    assert scene_of(tmp_path).quarantined == []  # frame and glass of one product: fine
+    (q,) = scene_of(tmp_path, uncut=True).quarantined
+    msg = f"{q.element}: {q.reason}; {q.advice}"
     wall = re.search(r"lies on IfcWall 'Wall 3' \(([0-9A-Za-z_$]{22})\)", msg)
-    assert wall is not None and "\n" not in msg, msg
+    assert wall is not None and "\n" not in msg and q.element.startswith("window 'W west'"), msg
     assert "{id: '" in msg and "layer: interior}" in msg and f"exclude: ['{wall[1]}']" in msg
     assert "cut the opening" not in msg
 

@@ -52,10 +52,12 @@ from en17037cli.errors import InputError
 from en17037cli.io import ReadOptions, register
 from en17037cli.io.ifc_glazing import (
     GLASS_TRANSPARENCY,
+    OPAQUE_TRANSPARENCY,
     GLAZED,
     assemblies,
     frame_opening_panes,
     glass_by_style,
+    opaque_by_style,
     hosts,
     is_default_material,
     pane_faces,
@@ -262,6 +264,11 @@ class _Builder:
         if glazed_class and any(says.values()):
             glass = np.isin(mids, [k for k, s in says.items() if s])
             by_face = False
+        elif product.is_a("IfcWindow") and mats and all(m is not None and opaque_by_style(m) for m in mats.values()):
+            t = max(getattr(m, "transparency", 0.0) for m in mats.values())
+            names = sorted({getattr(m, "name", "") or "unnamed" for m in mats.values()})
+            self.left_out.append((label(product), f"its surface style ({', '.join(names)}) has transparency {t:g}: a panel, "
+                                  "not glass; taken as opaque"))
         elif product.is_a("IfcWindow"):
             normal = None
             hv = [by_id[x] for h in host for x in (h, *self.members.get(h, ())) if x in by_id]
@@ -319,10 +326,16 @@ class _Builder:
         if self.plates_as_glass:
             notes.append(f"{name}: {len(self.plates_as_glass)} IfcPlate(s) of curtain walls with no surface style of their "
                          f"own taken as glass: {_listed(self.plates_as_glass)}")
-        if self.left_out:
-            warnings.append(f"{name}: {len(self.left_out)} IfcWindow(s) with no transparent part (no surface style with "
+        panels = [w for w, why in self.left_out if "a panel, not glass" in why]
+        blind = [w for w, why in self.left_out if "a panel, not glass" not in why]
+        if panels:
+            warnings.append(f"{name}: {len(panels)} IfcWindow(s) whose every surface style is nearly opaque (transparency "
+                            f"below {OPAQUE_TRANSPARENCY}: an opal or spandrel panel), taken as opaque: {_listed(panels)}; "
+                            "a layer rule {id: '<GlobalId>', layer: window} makes one glass")
+        if blind:
+            warnings.append(f"{name}: {len(blind)} IfcWindow(s) with no transparent part (no surface style with "
                             f"transparency >= {GLASS_TRANSPARENCY}, no material named like glass, no thin pane in the "
-                            f"geometry), taken as opaque: {_listed([w for w, _ in self.left_out])}; a layer rule "
+                            f"geometry), taken as opaque: {_listed(blind)}; a layer rule "
                             "{id: '<GlobalId>', layer: window} makes one glass")
         if missing:
             warnings.append(f"{name}: {len(missing)} element(s) with no geometry from ifcopenshell, left out: "

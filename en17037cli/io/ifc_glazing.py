@@ -7,7 +7,9 @@ semantics, in this order:
 2. where no style says (none, or ifcopenshell's default material), a style or material named like
    glass (:data:`GLASS_WORDS`);
 3. an IfcWindow with neither: its pane from its geometry (:func:`pane_faces`): the thin plates
-   parallel to the wall its opening is cut in;
+   parallel to the wall its opening is cut in, never faces whose style says they are nearly opaque
+   (a transparency below :data:`OPAQUE_TRANSPARENCY`: an opal or spandrel panel that the file
+   calls a window is a panel, not glass);
 4. an IfcPlate of an IfcCurtainWall with no style of its own: glass (curtain-wall infill).
 
 An IfcDoor with no transparent part is an opaque door. IfcWindowType / IfcDoorType panel
@@ -32,6 +34,10 @@ from en17037cli.geometry.topology import pieces
 GLAZED = ("IfcWindow", "IfcDoor", "IfcCurtainWall", "IfcPlate")
 #: A surface style at least this transparent is glass.
 GLASS_TRANSPARENCY = 0.5
+#: A surface style this transparent or less (but set: above 0) says its faces are opaque, so no
+#: pane is looked for in them: an opal polycarbonate panel (0.01), a spandrel. Between this and
+#: :data:`GLASS_TRANSPARENCY` (tinted glass written at 0.3, say) the geometry still decides.
+OPAQUE_TRANSPARENCY = 0.1
 #: Style or material names that say glass, where the file gives no transparency.
 GLASS_WORDS = ("glass", "glazing", "glas", "verre", "vitrage", "vetro", "vidrio", "glazed")
 #: A pane from geometry: a piece whose faces within this angle of the wall's plane ... [deg]
@@ -67,6 +73,15 @@ def glass_by_style(material) -> bool | None:
     if any(w in name for w in GLASS_WORDS):
         return True
     return False if t == t else None
+
+
+def opaque_by_style(material) -> bool:
+    """Whether a style says plainly that its faces let no light through: a transparency set above
+    0 and below :data:`OPAQUE_TRANSPARENCY` (0 itself is what many exporters write for 'not
+    given'), and no glass name."""
+    t = getattr(material, "transparency", float("nan"))
+    name = (getattr(material, "name", "") or "").lower()
+    return t == t and 0 < t < OPAQUE_TRANSPARENCY and not any(w in name for w in GLASS_WORDS)
 
 
 def hosts(f) -> dict[str, tuple[str, ...]]:

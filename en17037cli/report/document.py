@@ -80,6 +80,11 @@ def build_report(result: RunResult) -> dict:
                 entry[name] = {"level": None, "required": r.required(name), "status": res.status, "reason": res.reason}
             else:
                 entry[name] = None if res is None else criterion.report(ctx, room, res)
+                if res is not None and room.withheld is not None:  # computed without quarantined windows: no verdict
+                    reached = r.level_without_withheld(name)
+                    entry[name] |= {"level": None, "status": "not_assessable",
+                                    "reason": f"{room.withheld}; without them it reaches {reached}"
+                                    if reached else room.withheld}
         if any(r.status(c) not in (None, "pass") for c in CRITERIA):
             entry["status"] = "fail"
         rooms.append(entry)
@@ -101,6 +106,8 @@ def build_report(result: RunResult) -> dict:
         "dwellings": [dwelling_entry(d, project.requirements.sunlight_rooms) for d in result.dwellings],
         "rooms": rooms,
         **(spaces_entry(scene) if scene.spaces else {}),
+        "quarantined": [{"element": q.element, "action": q.action, "reason": q.reason, "advice": q.advice,
+                         "rooms": list(q.rooms)} for q in scene.quarantined],
         "warnings": list(result.warnings),
         "notes": notes,
         "rays_traced": int(result.rays_traced),

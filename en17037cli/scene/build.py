@@ -17,6 +17,7 @@ from en17037cli.errors import InputError
 from en17037cli.project.settings import Location, Project
 from en17037cli.scene.load import load_geometry
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry, Scene
+from en17037cli.scene.quarantine import quarantine_windows
 from en17037cli.scene.rooms import check_shared_floors, make_room
 from en17037cli.scene.spaces import rooms_from_spaces
 from en17037cli.scene.windows import check_glazing_over_opaque, find_windows
@@ -85,7 +86,8 @@ def build_scene(project: Project) -> Scene:
                   part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings], file_hashes=g.file_hashes,
                   sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read, windows_left_out=g.windows_left_out,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
-    scene.warnings.extend(check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where))
+    partly, hidden = check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where)
+    scene.warnings.extend(partly)
     for spec in project.rooms:
         if spec.auto:
             from en17037cli.scene.auto_rooms import auto_rooms
@@ -101,6 +103,7 @@ def build_scene(project: Project) -> Scene:
     if dupes:
         raise InputError(f"{where}: rooms: room name '{dupes[0]}' is used twice (a named room and an IfcSpace, or two "
                          "rooms[] entries matching one space); give each room its own name")
+    quarantine_windows(scene, hidden)  # after the rooms: which of them each would have lit
     for i, room in enumerate(scene.rooms):  # indices in the scene's order: ray groups and reports follow it
         room.index = i
     return scene

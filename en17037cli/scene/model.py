@@ -94,6 +94,27 @@ class Room:
     problem: str | None = None
     zones: tuple[str, ...] = ()  # the IFC zones (IfcZone, IfcSpatialZone) that group the room
     storey: str = ""  # the IFC building storey of the room's space
+    #: why no verdict is given although the criteria ran: windows of the room were quarantined
+    #: (:class:`Quarantined`); its levels are computed without them, and it never passes
+    withheld: str | None = None
+
+
+@dataclass(frozen=True)
+class Quarantined:
+    """An element of a model that the reader could not place as it stands: kept out of the way
+    with a warning instead of stopping the model.
+
+    element : how messages name it (``window 'W1' (IfcWindow 'W1' (GlobalId))``)
+    action : what was done with it (``taken as opaque``, ``left out``, ``taken as a window of no room``)
+    reason : what was found; advice : what a project file can do about it
+    rooms : the rooms whose window it would have been: their verdicts are withheld (never a pass)
+    """
+
+    element: str
+    action: str
+    reason: str
+    advice: str
+    rooms: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -156,6 +177,7 @@ class Scene(Geometry):
     location: Location | None = None
     resolved: dict = field(default_factory=dict)
     left_out: list[LeftOut] = field(default_factory=list)  # spaces the project picked that are not rooms, and why
+    quarantined: list[Quarantined] = field(default_factory=list)  # elements set aside, what was done and why
     #: what the model's spaces and windows are to each other (see scene/spaces.py): None before rooms are made
     space_windows: object = None
     cache: dict = field(default_factory=dict, repr=False, compare=False)  # lookups built once per scene

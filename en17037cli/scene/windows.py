@@ -1,6 +1,8 @@
 """Windows: glazing faces grouped into openings, and the modelling check on glazing over an uncut wall."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from en17037cli.errors import InputError
@@ -212,19 +214,39 @@ def file_label(part: Part) -> str:
     return f"{stem}: {name}" if stem else name
 
 
+@dataclass(frozen=True)
+class UncutGlazing:
+    """A window whose glazing lies on an opaque face of another element (no opening cut for it).
+
+    position : index of the window in the list checked; element : how messages name the window;
+    reason : what was found; advice : what a project file can do about it; other : how messages
+    name the element that covers it
+    """
+
+    position: int
+    element: str
+    reason: str
+    advice: str
+    other: str
+
+
 def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window], parts: list[Part], part,
-                              where: str) -> list[str]:
-    """Raise InputError where glazing lies over an opaque face of another element, with no opening
-    cut for it; warnings where such a face hides only a part of it.
+                              where: str) -> tuple[list[str], list[UncutGlazing]]:
+    """Windows whose glazing lies over an opaque face of another element, with no opening cut for
+    it: warnings where such a face hides only a part of it, and the windows it hides (to be
+    quarantined: :func:`en17037cli.scene.quarantine.quarantine_windows`).
 
     An opaque face within :data:`UNCUT_DISTANCE_M` of a window's glazing, whose overlap with the
     window covers more than :data:`UNCUT_SHARE` of the window's area, hides the glazing from every
     ray (a silent zero view). Walls whose opening is cut around a glazing in the same plane only
     touch its outline and pass; the window's own frame (:func:`own_parts`) touching or surrounding
     its glass is its frame and never counts. Where the model names its elements (IFC: a file the
-    user received) the error needs more than :data:`UNCUT_ERROR_SHARE` (a wall left uncut covers
-    it all); a smaller overlap is a warning naming the other element. Vectorised over faces; one
-    shapely overlap per layer of glazing of a window.
+    user received) the window is hidden when more than :data:`UNCUT_ERROR_SHARE` is covered (a
+    wall left uncut covers it all); a smaller overlap is a warning naming the other element.
+    Vectorised over faces; one shapely overlap per layer of glazing of a window.
+
+    Raises :class:`InputError` only where every window of the model is hidden so (nothing is left
+    to assess: the model's windows are all drawn on their walls), with the first one's advice.
 
     Parameters
     ----------
@@ -234,10 +256,11 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window],
 
     opaque = np.flatnonzero(layer != WINDOW)
     warnings: list[str] = []
+    hidden: list[UncutGlazing] = []
     if len(opaque) == 0:
-        return warnings
+        return warnings, hidden
     n_parts = len(parts)
-    for w in windows:  # one pass per window
+    for k, w in enumerate(windows):  # one pass per window
         mine = own_parts(parts, w)
         others = opaque[~mine[part[opaque]]] if mine.any() else opaque
         if len(others) == 0:
@@ -259,34 +282,43 @@ def check_glazing_over_opaque(vertices, triangles, layer, windows: list[Window],
             overlap = shapely.area(shapely.intersection(shapely.make_valid(faces), win))
             per_part += np.bincount(part[near], overlap, n_parts)
         worst = int(np.argmax(per_part))
-        if per_part[worst] > UNCUT_SHARE * w.area_m2:
-            share = f"{100 * per_part[worst] / w.area_m2:.0f}%"
-            own = parts[int(part[w.face_ids[0]])]
-            other = parts[worst]
-            named = w.key is not None and "id" in other.attrs
-            if named and per_part[worst] <= UNCUT_ERROR_SHARE * w.area_m2:
-                warnings.append(f"window '{w.name}' ({describe_part(own)}): {describe_part(other)} has an opaque face within "
-                                f"{UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing over {share} of it, which it hides")
-                continue
-            if named:  # a file the user received: what a project file can do
-                raise InputError(
-                    f"{where}: window '{w.name}' ({describe_part(own)}) lies on {describe_part(other)}: an opaque face of "
-                    f"that element within {UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covers {share} of it, so no ray "
-                    "can pass (the file cuts no opening for the window in that element). To check the room without this "
-                    f"window, add the layer rule {{id: '{w.key}', layer: interior}}; to let light through that element, "
-                    f"leave it out with model.files[].exclude: ['{other.attrs['id']}']")
-            if "id" in other.attrs and other.attrs.get("file") != own.attrs.get("file"):  # a context model's object
-                raise InputError(
-                    f"{where}: window '{w.name}' ({file_label(own)}) lies on '{file_label(other)}', an opaque face of "
-                    f"another model file within {UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covering {share} of it: "
-                    "no ray could pass. Where that object is the checked building as the context model draws it, "
-                    f"leave it out with exclude: ['{other.attrs['id']}'] on that file (or exclude_overlapping: true); "
-                    "else check the placement of the two files (transform, crs)")
-            raise InputError(
-                f"{where}: window '{w.name}' ({file_label(own)}) lies on '{file_label(other)}', an opaque face within "
-                f"{UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing covering {share} of it: no ray could pass; cut the "
-                "opening in that wall, or move the glazing off the wall plane")
-    return warnings
+        if per_part[worst] <= UNCUT_SHARE * w.area_m2:
+            continue
+        share = f"{100 * per_part[worst] / w.area_m2:.0f}%"
+        own = parts[int(part[w.face_ids[0]])]
+        other = parts[worst]
+        named = w.key is not None and "id" in other.attrs
+        within = f"within {UNCUT_DISTANCE_M * 1000:.0f} mm of the glazing"
+        if named and per_part[worst] <= UNCUT_ERROR_SHARE * w.area_m2:
+            warnings.append(f"window '{w.name}' ({describe_part(own)}): {describe_part(other)} has an opaque face {within} "
+                            f"over {share} of it, which it hides")
+            continue
+        if named:  # a file the user received: what a project file can do
+            hidden.append(UncutGlazing(
+                k, f"window '{w.name}' ({describe_part(own)})",
+                f"it lies on {describe_part(other)}: an opaque face of that element {within} covers {share} of it, so no "
+                "ray can pass (the file cuts no opening for the window in that element)",
+                f"to check the room without this window, add the layer rule {{id: '{w.key}', layer: interior}}; to let "
+                f"light through that element, leave it out with model.files[].exclude: ['{other.attrs['id']}']",
+                describe_part(other)))
+        elif "id" in other.attrs and other.attrs.get("file") != own.attrs.get("file"):  # a context model's object
+            hidden.append(UncutGlazing(
+                k, f"window '{w.name}' ({file_label(own)})",
+                f"it lies on '{file_label(other)}', an opaque face of another model file {within} covering {share} of it: "
+                "no ray could pass",
+                f"where that object is the checked building as the context model draws it, leave it out with exclude: "
+                f"['{other.attrs['id']}'] on that file (or exclude_overlapping: true); else check the placement of the two "
+                "files (transform, crs)", f"'{file_label(other)}'"))
+        else:
+            hidden.append(UncutGlazing(
+                k, f"window '{w.name}' ({file_label(own)})",
+                f"it lies on '{file_label(other)}', an opaque face {within} covering {share} of it: no ray could pass",
+                "cut the opening in that wall, or move the glazing off the wall plane", f"'{file_label(other)}'"))
+    if hidden and len(hidden) == len(windows):  # nothing left to assess: the model's own error, said once
+        first = hidden[0]
+        raise InputError(f"{where}: {first.element} {first.reason[3:]}; {first.advice}"
+                         + (f" ({len(hidden) - 1} other window(s) likewise)" if len(hidden) > 1 else ""))
+    return warnings, hidden
 
 
 def glazing_grid(window: Window, n: int) -> np.ndarray:
