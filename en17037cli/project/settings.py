@@ -180,6 +180,9 @@ class SunSettings:
     temperature_c: float
     max_reveal_depth_m: float
     method: str = "exact"  # exact | sampled
+    #: where P lies behind a member of the window's frame: pane_centres | nearest_glass | as_drawn
+    #: (:mod:`en17037cli.criteria.sunlight.member_at_p`)
+    point_p_behind_member: str = "pane_centres"
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,7 @@ from en17037cli.errors import InputError
 from en17037cli.project.settings import Location, Project
 from en17037cli.scene.load import load_geometry
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry, Scene
+from en17037cli.scene.openings import join_openings
 from en17037cli.scene.quarantine import quarantine_windows
 from en17037cli.scene.rooms import check_shared_floors, make_room
 from en17037cli.scene.spaces import rooms_from_spaces
@@ -104,6 +105,7 @@ def build_scene(project: Project) -> Scene:
         raise InputError(f"{where}: rooms: room name '{dupes[0]}' is used twice (a named room and an IfcSpace, or two "
                          "rooms[] entries matching one space); give each room its own name")
     quarantine_windows(scene, hidden)  # after the rooms: which of them each would have lit
+    scene.notes.extend(join_openings(scene))  # one window per opening, whatever the format
     for i, room in enumerate(scene.rooms):  # indices in the scene's order: ray groups and reports follow it
         room.index = i
     return scene

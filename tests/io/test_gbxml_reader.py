@@ -70,13 +70,17 @@ def obj_rooms(tmp_path_factory):
 
 def figures(rooms: list) -> list:
     """The rooms' figures, each eye height's viewpoints in a fixed order: the grid's own order sorts on
-    coordinates that differ in their last bits between a derived floor and a space's footprint."""
+    coordinates that differ in their last bits between a derived floor and a space's footprint; the
+    windows' element ids (an OBJ has none) left out."""
     out = []
     for r in rooms:
         view = json.loads(json.dumps(r["view"]))
         for eh in view.get("eye_heights", []):
             eh["points"] = sorted(eh["points"], key=lambda q: tuple(round(c, 6) for c in q["point"]))
-        out.append((r["name"], r["floor_area_m2"], r["windows"], view, r["sunlight"]))
+        sun = json.loads(json.dumps(r["sunlight"]))
+        for w in sun.get("windows", []):  # the model's own id of the window (a gbXML Opening's): not geometry
+            w.pop("element_id", None)
+        out.append((r["name"], r["floor_area_m2"], r["windows"], view, sun))
     return out
 
 

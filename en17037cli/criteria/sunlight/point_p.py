@@ -25,13 +25,47 @@ ROOF_GLAZING_MIN_NZ = 0.5
 SPACE_REVEAL_SLACK_M = 0.15
 
 
-def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.ndarray, axis: np.ndarray, half_width: float, max_depth: float) -> float:
+#: Faces parallel to the glazing this far from the window's outline count for a candidate plane's
+#: extent [m] (:func:`reveal_depth`) ...
+PLANE_NEIGHBOURHOOD_M = 1.0
+#: ... and the room-side plane of the opening is the deepest candidate with at least this share of
+#: the most extensive one's area (the wall's face, not a door's architrave or a frame's inner face).
+PLANE_MIN_SHARE = 0.5
+
+
+def plane_areas(scene: Scene, window: Window, normal: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """(c,) [m2]: area of the ``interior`` faces parallel to the window (|cos| > 0.9) lying in each
+    plane ``normal . x = offsets[c]`` (within 1 mm) and within :data:`PLANE_NEIGHBOURHOOD_M` of the
+    window's outline. Vectorised over faces; the interior faces' normals are computed once per scene."""
+    from en17037cli.geometry import triangle_normals
+    from en17037cli.scene.model import INTERIOR
+
+    cache = getattr(scene, "cache", {})  # stand-in scenes in tests have none
+    cached = cache.get("interior_planes")
+    if cached is None:
+        ids = np.flatnonzero(scene.layer == INTERIOR)
+        tri = scene.vertices[scene.triangles[ids]]
+        nrm, area = triangle_normals(tri)
+        cached = cache["interior_planes"] = (tri.min(axis=1), tri.max(axis=1), tri.mean(axis=1), nrm, area)
+    lo, hi, centre, nrm, area = cached
+    w = window.triangles.reshape(-1, 3)
+    grow = PLANE_NEIGHBOURHOOD_M
+    near = np.all((lo <= w.max(axis=0) + grow) & (hi >= w.min(axis=0) - grow), axis=1) & (np.abs(nrm @ normal) > 0.9)
+    off = centre[near] @ normal
+    return np.array([float(area[near][np.abs(off - o) <= 1e-3].sum()) for o in offsets])  # a few candidates
+
+
+def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.ndarray, axis: np.ndarray, half_width: float,
+                 max_depth: float, window: Window | None = None) -> float:
     """Depth of the room-side plane of the opening behind the glazing plane [m].
 
     Probes start just outside the glazing plane, 2, 12 and 25 cm beyond each jamb of the glass
     (inside the wall, or the window's frame, if they have thickness), and run inwards along -normal
-    through the interior faces; the deepest face parallel to the window (|cos| > 0.9) crossed
-    within ``max_depth`` is the wall's inner face (a frame's inner face lies in front of it).
+    through the interior faces; every face parallel to the window (|cos| > 0.9) they cross within
+    ``max_depth`` is a candidate plane. The room-side plane is the deepest candidate whose extent
+    around the window (:func:`plane_areas`) is at least :data:`PLANE_MIN_SHARE` of the largest
+    one's: the wall's inner face, not a frame's inner face in front of it, nor a door's casing or
+    architrave standing a few centimetres proud of it. Without ``window`` (stand-ins), the deepest.
     Zero where the wall has no thickness or no wall flanks the window.
 
     Parameters
@@ -44,26 +78,33 @@ def reveal_depth(engine: RayEngine, scene: Scene, start: np.ndarray, normal: np.
     origins = np.concatenate([start + off[:, None] * axis, start - off[:, None] * axis]) + REVEAL_PROBE_OUTSIDE_M * normal
     dirs = np.tile(-normal, (len(origins), 1))
     travelled = np.zeros(len(origins))
-    deepest = 0.0
+    found: list[float] = []
     for _ in range(4):  # a few crossings: outer face, inner face, beyond
         face, t = engine.first_hit("interior", origins, dirs)
         hit = face >= 0
         if not hit.any():
             break
-        v = scene.vertices[scene.triangles[np.maximum(face, 0)]]  # the two faces hit, not the whole scene
+        v = scene.vertices[scene.triangles[np.maximum(face, 0)]]  # the faces hit, not the whole scene
         fn = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
         cos = np.abs(fn @ normal) / np.maximum(np.linalg.norm(fn, axis=1), 1e-30)
         depth = travelled + np.where(hit, t, np.inf) - REVEAL_PROBE_OUTSIDE_M
         ok = hit & (cos > 0.9) & (depth <= max_depth)
-        if ok.any():
-            deepest = max(deepest, float(depth[ok].max()))
+        found.extend(float(d) for d in depth[ok])
         step = np.where(hit, t, 0)
         step = step + engine.restart_offset(origins + step[:, None] * dirs)
         origins = origins + step[:, None] * dirs
         travelled = travelled + step
         if not np.any(hit & (depth <= max_depth)):
             break
-    return max(deepest, 0.0)
+    depths = np.array([d for d in found if d > 0])
+    if len(depths) == 0:
+        return 0.0
+    planes = np.unique(np.round(depths / 1e-3))  # candidates a millimetre apart are one plane
+    if window is None or len(planes) == 1 or not hasattr(scene, "layer"):  # stand-ins: the deepest
+        return float(depths.max())
+    areas = plane_areas(scene, window, normal, start @ normal - planes * 1e-3)
+    chosen = planes[areas >= PLANE_MIN_SHARE * areas.max()].max()
+    return float(depths[np.round(depths / 1e-3) == chosen].max())
 
 
 def point_p_height(room: Room, window: Window) -> float:
@@ -114,7 +155,7 @@ def point_p(engine: RayEngine, scene: Scene, room: Room, window: Window, setting
     depth = reveal_depth_from_host(scene, window, q, settings.max_reveal_depth_m)
     notes = []
     if depth is None:
-        depth = reveal_depth(engine, scene, q, n, a, 0.5 * (s.max() - s.min()), settings.max_reveal_depth_m)
+        depth = reveal_depth(engine, scene, q, n, a, 0.5 * (s.max() - s.min()), settings.max_reveal_depth_m, window)
         space = getattr(window, "space_distance_m", None)
         if space is not None and depth > max(space, 0.0) + SPACE_REVEAL_SLACK_M:  # not deeper than the room's space begins
             depth = max(space, 0.0) + SPACE_REVEAL_SLACK_M

@@ -44,6 +44,15 @@ def sunlight_section(scene: Scene, room: Room, res: SunlightResult, required: st
                  "reveal_depth_m": None if depth is None else json_number(depth, 4),
                  "point_p_source": "explicit" if depth is None and not problem else "EN 17037 A.3 rule",
                  "hours_h": None if problem or res.window_hours is None else json_number(res.window_hours[i, k], 4)}
+        if w.key:
+            entry["element_id"] = w.key
+        pts = res.window_points[i] if i < len(res.window_points) else None
+        member = res.member_hours[i] if i < len(res.member_hours) else None
+        if member is not None and pts is not None:  # P behind a member of the frame: the rule, and what it rests on
+            entry["behind_member"] = {
+                "rule": settings.point_p_behind_member, "points_m": [json_xyz(q) for q in scene.to_world(pts)],
+                "hours_as_drawn_h": json_number(member["as_drawn"][k], 4),
+                "hours_nearest_glass_h": json_number(member["nearest_glass"][k], 4)}
         if problem:
             entry |= {"status": "not_assessable", "reason": problem}
         windows.append(entry)

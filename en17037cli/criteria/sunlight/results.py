@@ -19,6 +19,10 @@ class SunlightResult:
     window_problems : per window, why it has no point P (its P is NaN and it is left out), or None
     window_hours : (k, d) float [h], each window's hours alone (P through that window only), NaN
         where it has no point P
+    window_points : per window, (j, 3) float [m] the points whose sun is the window's (P, or the
+        clear glass beside a member of its frame in front of P), None where it has no point P
+    member_hours : per window whose P lies behind a member of its frame, (d,) [h] hours with P
+        ``as_drawn`` and at the ``nearest_glass`` beside the member; None for the others
     """
 
     points_local: np.ndarray
@@ -34,3 +38,5 @@ class SunlightResult:
     notes: list[str] = field(default_factory=list)
     window_problems: list[str | None] = field(default_factory=list)
     window_hours: np.ndarray | None = None
+    window_points: list = field(default_factory=list)
+    member_hours: list = field(default_factory=list)
