@@ -27,7 +27,6 @@ from click.testing import CliRunner
 
 from en17037cli import pipeline
 from en17037cli.cli import cli
-from en17037cli.errors import InputError
 from en17037cli.project import load_project
 from en17037cli.scene import build_scene
 

@@ -52,14 +52,14 @@ from en17037cli.errors import InputError
 from en17037cli.io import ReadOptions, register
 from en17037cli.io.ifc_glazing import (
     GLASS_TRANSPARENCY,
-    OPAQUE_TRANSPARENCY,
     GLAZED,
+    OPAQUE_TRANSPARENCY,
     assemblies,
     frame_opening_panes,
     glass_by_style,
-    opaque_by_style,
     hosts,
     is_default_material,
+    opaque_by_style,
     pane_faces,
     principal_normal,
 )

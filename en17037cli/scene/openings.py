@@ -19,6 +19,7 @@ import numpy as np
 
 from en17037cli.geometry import window_axes
 from en17037cli.scene.model import Scene, Window
+from en17037cli.scene.windows import covered_faces
 
 #: Panes of one room in one plane whose outlines are at most this far apart are one window: the
 #: widest frame member (mullion, transom) this tool expects between two panes of one opening [m].
@@ -32,22 +33,15 @@ PLANE_ANGLE_DEG = 1.0
 PLANE_OFFSET_M = 0.05
 
 
-#: Panes whose outlines overlap over more than this share of the smaller, seen along the normal,
-#: are layers of glazing one behind the other (double glazing drawn as two panes), not panes side by
-#: side: they stay as they are (each direction through them counts once).
-MAX_OVERLAP_SHARE = 0.01
-
-
-def pane_gap(a: Window, b: Window) -> tuple[float, float]:
+def pane_gap(a: Window, b: Window) -> float:
     """Distance between the outlines of two windows' glazing in ``a``'s plane [m] (0 where they
-    touch or overlap), and the area of their overlap over the smaller's [-]."""
+    touch or overlap)."""
     import shapely
 
     u, v = window_axes(a.normal)
     pa = shapely.union_all(shapely.make_valid(shapely.polygons(np.stack([a.triangles @ u, a.triangles @ v], axis=-1))))
     pb = shapely.union_all(shapely.make_valid(shapely.polygons(np.stack([b.triangles @ u, b.triangles @ v], axis=-1))))
-    small = min(pa.area, pb.area)
-    return float(pa.distance(pb)), float(pa.intersection(pb).area / small) if small > 0 else 1.0
+    return float(pa.distance(pb))
 
 
 def same_opening(a: Window, b: Window) -> bool:
@@ -60,22 +54,26 @@ def same_opening(a: Window, b: Window) -> bool:
     lo_b, hi_b = b.triangles.reshape(-1, 3).min(axis=0), b.triangles.reshape(-1, 3).max(axis=0)
     if np.any(lo_a > hi_b + MAX_MEMBER_WIDTH_M) or np.any(lo_b > hi_a + MAX_MEMBER_WIDTH_M):
         return False  # boxes apart: no polygon test
-    gap, overlap = pane_gap(a, b)
-    return gap <= MAX_MEMBER_WIDTH_M and overlap <= MAX_OVERLAP_SHARE
+    return pane_gap(a, b) <= MAX_MEMBER_WIDTH_M
 
 
 def joined(members: list[Window]) -> Window:
     """One window of the panes ``members`` (in the scene's order): the first one's name, key,
-    normal and index, every pane's faces, the hosts of all."""
+    normal and index, every pane's faces but those hidden behind others of it (double glazing
+    drawn as two panes: :func:`~en17037cli.scene.windows.covered_faces`), the hosts of all; its
+    area counts each part of the opening once."""
     if len(members) == 1:
         return members[0]
     first = members[0]
+    tris = np.concatenate([m.triangles for m in members])
+    ids = np.concatenate([m.face_ids for m in members])
+    hidden, seen_area = covered_faces(tris, first.normal)
+    area = float(sum(m.area_m2 for m in members)) if seen_area is None else seen_area
     more = len(members) - 1
     name = first.name if len({m.key for m in members}) == 1 and first.key else f"{first.name} (+{more} pane{'s' * (more > 1)})"
     host = tuple(sorted({h for m in members for h in m.host}))
-    return Window(name=name, index=first.index, face_ids=np.concatenate([m.face_ids for m in members]),
-                  triangles=np.concatenate([m.triangles for m in members]), normal=first.normal,
-                  area_m2=float(sum(m.area_m2 for m in members)), key=first.key, host=host,
+    return Window(name=name, index=first.index, face_ids=ids[~hidden], triangles=tris[~hidden], normal=first.normal,
+                  area_m2=area, key=first.key, host=host,
                   open_depth_m=max(m.open_depth_m for m in members),
                   space_distance_m=None if all(m.space_distance_m is None for m in members)
                   else min(m.space_distance_m for m in members if m.space_distance_m is not None))
