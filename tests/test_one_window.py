@@ -155,34 +155,35 @@ def test_a_window_drawn_three_ways_is_one_window_with_one_answer(tmp_path):
     assert max(drawn.values()) - min(drawn.values()) < 2e-3, drawn
 
 
-def test_p_behind_a_mullion_hours_against_a_hand_calculation(tmp_path):
-    """At a point on the room-side face, a ray to the sun leaves when it passes the wall's opening
-    (its room-side and outer faces), the frame's inner edge (the frame's two faces) and does not
-    cross the mullion (both of the bar's faces on one side of it). Sampled every 10 s from pvlib's
-    SPA (tests/oracles.py) with refraction, as the tool's default; the tool's exact method agrees
-    to the sampling's 2 x 10 s a day. P as drawn (at the bar), and the nearest glass either side
-    (1 cm beyond the bar's edges), whose union the report gives beside."""
-    p = project(tmp_path, {"path": str(obj_window(tmp_path, "two_panes")), "layers": OBJ_LAYERS}, ROOM)
-    rep = report(p, tmp_path / "o", "--set", "sunlight.point_p_behind_member=as_drawn")
-    (w,) = rep["rooms"][0]["sunlight"]["windows"]
+def seen_from(px: float) -> np.ndarray:
+    """Whether the sun is seen from (px, 0, 1.2) on the room-side face, every 10 s of the day (see
+    the test below): a ray to the sun passes the wall's opening (its room-side and outer faces),
+    the frame's inner edge (the frame's two faces) and does not cross the mullion (both of the bar's
+    faces on one side of it); pvlib's SPA with refraction, as the tool's default."""
     day = dt.datetime(2026, 3, 1, tzinfo=zoneinfo.ZoneInfo(TZ))
     t = np.arange(day.timestamp(), day.timestamp() + 86400, 10.0)
     elev, azim = sun_position(t, LAT, LON, refraction=True)
     d = sun_vectors(elev, azim)
     out = d[:, 1] < -1e-9  # the window faces -y (south)
+    seen = out & (elev >= 11.0)
+    r = lambda y: -y / np.where(out, -d[:, 1], 1.0)  # noqa: E731 the ray's length from y = 0 to the plane y
+    x = lambda y: px + r(y) * d[:, 0]  # noqa: E731
+    z = lambda y: 1.2 + r(y) * d[:, 2]  # noqa: E731
+    for y in (0.0, -WALL):  # the opening in the wall
+        seen &= (x(y) > X0) & (x(y) < X1) & (z(y) > SILL) & (z(y) < SILL + H)
+    for y in Y_FRAME:  # inside the frame's ring
+        seen &= (x(y) > X0 + FRAME) & (x(y) < X1 - FRAME) & (z(y) > SILL + FRAME) & (z(y) < SILL + H - FRAME)
+    a, b = x(Y_FRAME[1]) - 2.5, x(Y_FRAME[0]) - 2.5  # clear of the mullion: both its faces on one side
+    return seen & (((a >= FRAME / 2) & (b >= FRAME / 2)) | ((a <= -FRAME / 2) & (b <= -FRAME / 2)))
 
-    def seen_from(px: float) -> np.ndarray:
-        seen = out & (elev >= 11.0)
-        r = lambda y: -y / np.where(out, -d[:, 1], 1.0)  # noqa: E731 the ray's length from y = 0 to the plane y
-        x = lambda y: px + r(y) * d[:, 0]  # noqa: E731
-        z = lambda y: 1.2 + r(y) * d[:, 2]  # noqa: E731
-        for y in (0.0, -WALL):  # the opening in the wall
-            seen &= (x(y) > X0) & (x(y) < X1) & (z(y) > SILL) & (z(y) < SILL + H)
-        for y in Y_FRAME:  # inside the frame's ring
-            seen &= (x(y) > X0 + FRAME) & (x(y) < X1 - FRAME) & (z(y) > SILL + FRAME) & (z(y) < SILL + H - FRAME)
-        a, b = x(Y_FRAME[1]) - 2.5, x(Y_FRAME[0]) - 2.5  # clear of the mullion: both its faces on one side
-        return seen & (((a >= FRAME / 2) & (b >= FRAME / 2)) | ((a <= -FRAME / 2) & (b <= -FRAME / 2)))
 
+def test_p_behind_a_mullion_hours_against_a_hand_calculation(tmp_path):
+    """:func:`seen_from` sampled every 10 s: the tool's exact method agrees to the sampling's 2 x 10 s
+    a day. P as drawn (at the bar), and the nearest glass either side (1 cm beyond the bar's
+    edges), whose union the report gives beside."""
+    p = project(tmp_path, {"path": str(obj_window(tmp_path, "two_panes")), "layers": OBJ_LAYERS}, ROOM)
+    rep = report(p, tmp_path / "o", "--set", "sunlight.point_p_behind_member=as_drawn")
+    (w,) = rep["rooms"][0]["sunlight"]["windows"]
     expected = seen_from(2.5).sum() * 10.0 / 3600.0
     beside = (seen_from(2.5 - FRAME / 2 - 0.01) | seen_from(2.5 + FRAME / 2 + 0.01)).sum() * 10.0 / 3600.0
     assert beside > expected + 0.5  # the bar hides the sun from P for at least half an hour
@@ -239,3 +240,20 @@ def test_the_fzk_haus_from_its_ifc_and_its_obj_gives_the_same_hours(tmp_path):
         assert len(a[name]["windows"]) == len(b[name]["windows"]), name
         assert b[name]["hours_h"] == pytest.approx(a[name]["hours_h"], abs=0.05), name
         assert b[name]["level"] == a[name]["level"], name
+
+
+def test_the_member_rule_is_in_the_sensitivity_study(tmp_path):
+    """`study sensitivity` tries the other two readings of P behind a member on the rooms that have
+    one, each at the level of the hours :func:`seen_from` gives (Table A.6's thresholds)."""
+    import csv
+
+    from en17037cli import standard
+    from en17037cli.studies.sensitivity import sensitivity
+
+    p = project(tmp_path, {"path": str(obj_window(tmp_path, "two_panes")), "layers": OBJ_LAYERS}, ROOM)
+    sensitivity(p, tmp_path / "s", log=lambda *_: None)
+    rows = {r["value"]: r["level"] for r in csv.DictReader((tmp_path / "s" / "sensitivity.csv").open())
+            if r["choice"] == "sunlight.point_p_behind_member"}
+    hours = {"as_drawn": seen_from(2.5), "nearest_glass": seen_from(2.5 - FRAME / 2 - 0.01) | seen_from(2.5 + FRAME / 2 + 0.01)}
+    th = standard.LevelThresholds(1.5, 3.0, 4.0)
+    assert rows == {k: standard.LEVELS[int(standard.level_from_value([v.sum() * 10 / 3600], th)[0])] for k, v in hours.items()}

@@ -9,6 +9,8 @@ choice                    values tried                                          
 ========================  ===============================================================  ============
 ``sunlight.date``         every day of the period                                           none
 ``sunlight.point_p``      P moved 0.1 m left, right and up within the opening               sunlight
+``sunlight.point_p_       pane_centres, nearest_glass, as_drawn (rooms where a member of a   sunlight
+behind_member``           window's frame lies in front of P)
 ``view.layer_threshold``  0, 3.05e-4 (a 1 x 1 deg patch), 1e-3, 1e-2 sr                     none
 ``view.eye_heights_m``    seated 1.2 m only, standing 1.7 m only                            none
 ``view.distance_method``  horizontal, solid_angle                                           view
@@ -56,6 +58,7 @@ PATCH_SR = float(np.radians(1.0) ** 2)
 RANGES: dict[str, tuple] = {
     "sunlight.date": ("every day",),
     "sunlight.point_p": ("left 0.1 m", "right 0.1 m", "up 0.1 m"),
+    "sunlight.point_p_behind_member": ("pane_centres", "nearest_glass", "as_drawn"),
     "view.layer_threshold_sr": (0.0, PATCH_SR, 1e-3, 1e-2),
     "view.eye_heights_m": ((1.2,), (1.7,)),
     "view.distance_method": ("horizontal", "solid_angle"),
@@ -70,7 +73,8 @@ RANGES: dict[str, tuple] = {
     "daylight.sky_subdivision": (2,),
 }
 #: How the tables and charts name each choice.
-LABELS = {"sunlight.date": "assessed date", "sunlight.point_p": "point P", "view.layer_threshold_sr": "layer threshold",
+LABELS = {"sunlight.date": "assessed date", "sunlight.point_p": "point P", "sunlight.point_p_behind_member": "P behind a member",
+          "view.layer_threshold_sr": "layer threshold",
           "view.eye_heights_m": "eye heights", "view.distance_method": "distance method",
           "view.distance_statistic": "distance statistic", "view.grid_offset": "grid offset",
           "view.grid_spacing_m": "grid spacing", "view.wall_margin_m": "wall margin",
@@ -250,6 +254,17 @@ def sensitivity(project_path: Path, out_dir: Path, overrides=(), log=print) -> d
                     outcomes.append(Outcome(name, "sunlight", "sunlight.point_p", how,
                                             *sun_outcome(res.hours[res.assessed_index], th.sunlight_hours)))
                 log(f"  point P {how}: {time.perf_counter() - t:.2f} s")
+            ss = project.sunlight
+            behind = [room for room in scene.rooms if room.name in sun and any(h is not None for h in sun[room.name].member_hours)]
+            for rule in ranges["sunlight.point_p_behind_member"] if behind and ss is not None else ():
+                if rule == ss.point_p_behind_member:
+                    continue  # the project's own setting: the default outcome
+                t = time.perf_counter()
+                proj = dataclasses.replace(project, sunlight=dataclasses.replace(ss, point_p_behind_member=rule))
+                for name, res in assess("sunlight", proj, behind).items():
+                    outcomes.append(Outcome(name, "sunlight", "sunlight.point_p_behind_member", rule,
+                                            *sun_outcome(res.hours[res.assessed_index], th.sunlight_hours)))
+                log(f"  sunlight.point_p_behind_member = {rule}: {time.perf_counter() - t:.2f} s")
         if view:
             for key in ("view.distance_method", "view.distance_statistic", "view.grid_offset", "view.grid_spacing_m",
                         "view.wall_margin_m", "view.mullions_block"):
