@@ -160,12 +160,15 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
         plots = not no_plots and pictures_available()
         painters = _painters() if plots else None
         try:
-            bar, progress = progress_factory(not quiet and sys.stderr.isatty())
+            tty = sys.stderr.isatty()
+            bar, progress = progress_factory(not quiet and tty, lines=not quiet and not as_json and not tty)
+            notify = None if quiet else (lambda line: click.echo(f"note: {line}", err=True))
             if bar is not None:
                 with bar:
-                    result = pipeline.run(project, only, progress, max_points or MAX_POINTS, pictures=plots)
+                    result = pipeline.run(project, only, progress, max_points or MAX_POINTS, pictures=plots, notify=notify)
             else:
-                result = pipeline.run(project, only, max_points=max_points or MAX_POINTS, pictures=plots)
+                result = pipeline.run(project, only, progress, max_points=max_points or MAX_POINTS, pictures=plots,
+                                      notify=notify)
             figures = render_figures(result, painters) if plots else []
         finally:
             if painters is not None:

@@ -14,11 +14,16 @@ from en17037cli import standard
 from en17037cli.criteria import CRITERIA, Context, Criterion, Unassessed
 from en17037cli.dwellings import Dwelling
 from en17037cli.errors import NotAssessable
-from en17037cli.preflight import MAX_POINTS, preflight
+from en17037cli.preflight import ANNOUNCE_S, MAX_POINTS, estimate_seconds, preflight
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene import build_scene
 from en17037cli.scene.model import Room, Scene
+
+#: Model files larger than this together are announced before they are read [bytes] ...
+LARGE_MODEL_BYTES = 5_000_000
+#: ... with about this many seconds a megabyte (ifcopenshell's tessellation of a Revit IFC, 2 cores).
+READ_SECONDS_PER_MB = 2.5
 
 #: progress(total, label) -> advance(n): how the CLI draws progress bars
 Progress = Callable[[int, str], Callable[[int], None]]
@@ -320,7 +325,8 @@ class Session:
 
 
 def run(project: Project, only: str | None = None, progress: Progress | None = None,
-        max_points: int = MAX_POINTS, threads: int | None = None, pictures: bool = False) -> RunResult:
+        max_points: int = MAX_POINTS, threads: int | None = None, pictures: bool = False,
+        notify: Callable[[str], None] | None = None) -> RunResult:
     """Run the checks of ``project``: open a :class:`Session` and assess every room.
 
     Parameters
@@ -330,8 +336,25 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
     max_points : the viewpoint budget (see :func:`~en17037cli.preflight.check_budget`)
     threads : ray-tracing threads [default: ``EN17037_THREADS``, else every core]
     pictures : also trace what the report's pictures need (:meth:`Criterion.illustrate`), stage ``pictures``
+    notify : optional ``notify(line)``: told what a long run is about to do (a large model read, the
+        estimated time of the criteria: :func:`~en17037cli.preflight.estimate_seconds`)
     """
+    if notify is not None:
+        size = sum(f.path.stat().st_size for f in project.model.files if f.path.is_file())
+        if size > LARGE_MODEL_BYTES:
+            notify(f"reading {len(project.model.files)} model file(s), {size / 1e6:.0f} MB: about "
+                   f"{size / 1e6 * READ_SECONDS_PER_MB:.0f} s before the checks start")
     with Session(project, only, max_points, threads) as session:
+        if notify is not None:
+            est = estimate_seconds(project, session.scene, session.checks)
+            chosen = {c.name for c in session.chosen}
+            total = sum(v for k, v in est.items() if k in chosen)
+            if total > ANNOUNCE_S:
+                parts = ", ".join(f"{k} ~{v:.0f} s" for k, v in est.items() if k in chosen)
+                n = len(session.scene.rooms)
+                notify(f"{n} room{'s' * (n != 1)}, {session.checks.points:,} viewpoints, "
+                       f"{session.checks.cells / 1e6:,.1f} M view cells: about {total:.0f} s of work ({parts}; a rough "
+                       "estimate, the progress shows the time left)")
         result = session.result(session.assess(progress=progress))
         if pictures:
             session.illustrate(result)

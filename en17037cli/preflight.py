@@ -30,6 +30,18 @@ CELLS_PER_POINT = 20_000
 MAX_SUN_SAMPLES = 20_000_000
 
 
+#: Rough costs for the estimate shown before a long run (CPU seconds on one core of this project's
+#: 2-core test machine, fitted on the corpus of real exports, docs/performance.md): a sampling cell
+#: of the view's solid angles traced, a viewpoint whose solid angles are not traced (no landscape),
+#: a point P's day-by-day sun, a daylight grid point. The run's own bar then shows the time left.
+SECONDS_PER_CELL = 8e-6
+SECONDS_PER_VIEWPOINT = 1e-3
+SECONDS_PER_POINT_P = 0.3
+SECONDS_PER_DAYLIGHT_POINT = 0.02
+#: A run estimated to take longer than this says so before its work [s].
+ANNOUNCE_S = 10.0
+
+
 @dataclass
 class Preflight:
     """What was found before the criteria run.
@@ -178,3 +190,23 @@ def requirement_warnings(project: Project) -> list[str]:
         return [f"no room requires a level of {' or '.join(run)}: the levels are reported, the status passes whatever "
                 "they are (set 'requirements')"]
     return []
+
+
+def estimate_seconds(project: Project, scene: Scene, pf: Preflight) -> dict[str, float]:
+    """A rough estimate of each criterion's time [s] from the preflight's counts (viewpoints and
+    sampling cells, points P, daylight grid points) and :data:`SECONDS_PER_CELL` and the other
+    rough costs: shown before a long run, never a budget."""
+    from en17037cli.criteria.view import no_landscape
+
+    out: dict[str, float] = {}
+    if project.view is not None:
+        traced = no_landscape(scene) is None
+        out["view"] = pf.cells * SECONDS_PER_CELL if traced else pf.points * SECONDS_PER_VIEWPOINT
+    if project.sunlight is not None:
+        out["sunlight"] = SECONDS_PER_POINT_P * sum(len(r.windows) for r in scene.rooms if r.problem is None)
+    if getattr(project, "daylight", None) is not None:
+        import shapely
+
+        area = sum(shapely.area(r.floor) for r in scene.rooms if r.problem is None)
+        out["daylight"] = SECONDS_PER_DAYLIGHT_POINT * area / project.daylight.grid_spacing_m ** 2
+    return out

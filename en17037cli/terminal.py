@@ -13,20 +13,55 @@ def stderr_console():
     return Console(stderr=True)
 
 
-def progress_factory(enabled: bool):
-    """A ``progress(total, label) -> advance(n)`` callable drawing rich bars on stderr, or None."""
-    if not enabled:
+#: Progress lines on a non-interactive stderr (a CI log): at most one every this many seconds, and
+#: only once a criterion has run this long [s].
+LINE_EVERY_S = 15.0
+
+
+def progress_factory(enabled: bool, lines: bool = False):
+    """A ``progress(total, label) -> advance(n)`` callable: rich bars with the time left on an
+    interactive stderr (``enabled``), plain lines every :data:`LINE_EVERY_S` on another (``lines``:
+    a CI log sees a long run move), or (None, None)."""
+    if not enabled and not lines:
         return None, None
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    if not enabled:
+        return None, _progress_lines
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
     bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                   console=stderr_console(), transient=True)
+                   TextColumn("left"), TimeRemainingColumn(), console=stderr_console(), transient=True)
 
     def progress(total: int, label: str):
         task = bar.add_task(label, total=total)
         return lambda n: bar.advance(task, n)
 
     return bar, progress
+
+
+def _progress_lines(total: int, label: str):
+    """Plain progress lines on stderr: ``view: 40% (1,200 of 3,000), 1 min 20 s, about 2 min left``."""
+    import time
+
+    def fmt(seconds: float) -> str:
+        if not seconds == seconds:
+            return "?"
+        return f"{seconds:.0f} s" if seconds < 120 else f"{seconds // 60:.0f} min {seconds % 60:02.0f} s"
+
+    start = time.perf_counter()
+    state = {"done": 0, "said": start}
+
+    def advance(n: int) -> None:
+        state["done"] += n
+        now = time.perf_counter()
+        if now - state["said"] < LINE_EVERY_S or now - start < LINE_EVERY_S or total <= 0:
+            return
+        state["said"] = now
+        f = min(state["done"] / total, 1.0)
+        left = (now - start) * (1 - f) / f if f > 0 else float("nan")
+        click.echo(f"{label}: {100 * f:.0f}% ({state['done']:,} of {total:,}), {fmt(now - start)}, about {fmt(left)} left",
+                   err=True)
+
+    return advance
 
 
 def annotate(records) -> None:

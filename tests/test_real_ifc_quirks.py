@@ -262,3 +262,34 @@ def test_an_ifc2x_file_is_read_as_ifc2x3(tmp_path, old):
     got = build_scene(load_project(project(older, older / "room.ifc"), []))
     assert [(w.name, w.area_m2) for w in got.rooms[0].windows] == [(w.name, w.area_m2) for w in want.rooms[0].windows]
     assert any(f"schema {old} (before IFC2X3), read as IFC2X3" in n for n in got.notes)
+
+
+def test_two_windows_of_one_name_keep_their_own_point_p(tmp_path):
+    """Two IfcWindows both named 'Fenster' (ArchiCAD 11 names a hall's two windows alike) on the
+    room's south and east walls: told apart by their GlobalIds in every report, and each P on the
+    room-side face of its own wall, within its own window's width: never the other's."""
+    from en17037cli.samples.ifc import Builder
+
+    b = Builder("IFC4")
+    st = b.storey("Ground", 0.0)
+    b.locate(52.0, 4.36, 0.0)
+    foot = [(0, 0), (6.6, 0), (6.6, 5.6), (0, 5.6)]
+    b.slab("Floor", st, foot, -0.2, 0.2)
+    b.slab("Roof", st, foot, 2.7, 0.2)
+    walls = [b.wall(f"Wall {k}", st, *p, *q, 0.0, 2.7) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
+    room = b.space("R1", "Hall", st, [(WALL, WALL), (6.3, WALL), (6.3, 5.3), (WALL, 5.3)], 0.0, 2.7)
+    for name, wall, centre, n, u in (("W a", walls[0], (3.3, 0.0, 1.5), (0, -1, 0), (1, 0, 0)),
+                                     ("W b", walls[1], (6.6, 2.8, 1.5), (1, 0, 0), (0, 1, 0))):
+        b.window(name, st, wall, centre, n, u, 1.2, 1.4, spaces=[room]).Name = "Fenster"
+    p = project(tmp_path, b.write(tmp_path / "hall.ifc"), sunlight={"date": "03-21", "period": {"start": "03-21", "end": "03-21"}})
+    r = pipeline.run(load_project(p, []))
+    res = r.rooms[0].assessed("sunlight")
+    names = [w.name for w in r.rooms[0].room.windows]
+    assert len(set(names)) == 2 and all(re.fullmatch(r"Fenster \([0-9A-Za-z_$]{22}\)", n) for n in names), names
+    for w, pt in zip(r.rooms[0].room.windows, r.scene.to_world(res.points_local)):
+        c = r.scene.to_world(w.centroid)
+        inward = -np.asarray(w.normal)
+        depth = (pt - c) @ inward  # behind its own glass, on its own wall's room-side face
+        assert 0.2 < depth < WALL + 1e-9, (w.name, depth)
+        along = np.linalg.norm((pt - c) - depth * inward - ((pt - c) @ [0, 0, 1]) * np.array([0, 0, 1.0]))
+        assert along < 0.6, (w.name, along)  # within the 1.2 m window's half-width

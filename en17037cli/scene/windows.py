@@ -125,7 +125,9 @@ def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarr
     edge-connected coplanar faces: vertices are welded within :data:`WELD_M`; two faces sharing
     an edge join when their normals differ by less than :data:`COPLANAR_ANGLE_DEG` and their
     planes by less than :data:`COPLANAR_OFFSET_M`; such a window is named after the part of its
-    first face. Glass modelled with thickness keeps its outer face (:func:`outer_surface`).
+    first face; several products of one Name are told apart by their ids (``Fenster-015
+    (12ErTRo_9EmBI9cF9PJCvF)``), several pieces of one by a number. Glass modelled with thickness
+    keeps its outer face (:func:`outer_surface`).
 
     Returns
     -------
@@ -161,7 +163,11 @@ def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarr
     for root in roots:  # one small step per window, not per face
         p = parts[part[face_ids[np.flatnonzero(label == root)[0]]]]
         base_names.append(p.label or p.attrs.get("file", "") or "window")
+    keys_of = [wkey[np.flatnonzero(label == root)[0]] for root in roots]
     counts = {n: base_names.count(n) for n in base_names}
+    # products that share a Name (two IfcWindows 'Fenster-015'): told apart by their ids; the pieces
+    # of one product (its panes facing two ways) by a number
+    by_key = {(n, key): sum(1 for m, q in zip(base_names, keys_of) if m == n and q == key) for n, key in zip(base_names, keys_of)}
     seen: dict = {}
     windows = []
     hidden = []
@@ -180,7 +186,14 @@ def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarr
                 members, tris = members[~cover], tris[~cover]
             area = area if seen_area is None else seen_area
         name = base_names[k]
-        if counts[name] > 1:
+        key = keys_of[k]
+        if counts[name] > 1 and key and by_key[(name, key)] < counts[name]:
+            base = f"{name} ({key})"
+            if by_key[(name, key)] > 1:
+                seen[base] = seen.get(base, 0) + 1
+                base = f"{base} #{seen[base]}"
+            name = base
+        elif counts[name] > 1:
             seen[name] = seen.get(name, 0) + 1
             name = f"{name} #{seen[name]}"
         first = parts[part[face_ids[members[0]]]]
