@@ -67,3 +67,22 @@ def test_a_floor_off_the_spaces_area_is_warned(tmp_path):
     r = CliRunner().invoke(cli, ["validate", project(tmp_path, text)], catch_exceptions=False)
     assert "the floor read of 1 space differs from the Area the file gives by more than 10%: '24 Soggiorno' 15.6 m² " \
            "(Area 25.2 m²)" in r.output, r.output
+
+
+def test_a_floor_in_two_pieces_a_wall_apart_is_one_floor(tmp_path):
+    """Revit 2025 (Tamas-House) writes some bedrooms' floors as two pieces of the ClosedShell, 0.21 m
+    apart, the Space's Area their sum; only the larger piece was kept (14.8 of 19.2 m²). Here a
+    space of two boxes 0.2 m apart along a 3 m side: one floor of 12 + 6 m² and the 0.6 m² strip
+    between them; pieces farther apart are not joined (the larger kept, the Area warning says so)."""
+    from gbxml_files import box_shell, document, space, surface
+
+    def mesh(gap: float):
+        shell = box_shell(0, 3, 0, 4, 0, 2.7) + box_shell(0, 3, 4 + gap, 6 + gap, 0, 2.7)
+        wall = surface("w", "ExteriorWall", [(0, 0, 0), (3, 0, 0), (3, 0, 2.7), (0, 0, 2.7)], ("sp",),
+                       [("o", "FixedWindow", [(1, 0, 1), (2, 0, 1), (2, 0, 2), (1, 0, 2)], "win")])
+        return read_gbxml(write(tmp_path / str(gap), document([space("sp", "bedroom", shell)], [wall])))
+
+    (s,) = mesh(0.2).spaces
+    assert abs(shapely.Polygon(s.footprint, s.holes).area - 18.6) < 1e-6
+    (far,) = mesh(1.0).spaces
+    assert abs(shapely.Polygon(far.footprint, far.holes).area - 12.0) < 1e-6

@@ -56,8 +56,10 @@ EXTERIOR_SURFACES = ("ExteriorWall", "Roof", "ExposedFloor", "RaisedFloor", "Und
 #: An opening lies on its host surface within this distance [m] (authoring tools leave some noise)
 OPENING_PLANE_M = 0.05
 SPACE_KIND = "gbXML Space"
-#: A space's floor faces this close are one floor (coordinates rounded by the exporter) [m]
+#: A space's floor faces this close are one floor (coordinates rounded by the exporter) [m] ...
 SEAM_M = 1e-3
+#: ... and its floor pieces less than twice this apart (a wall of the space's own through it) [m]
+JOIN_M = 0.175
 #: A footprint whose area differs from the Space's own Area by more than this share is warned [-]
 AREA_MISMATCH = 0.1
 
@@ -106,12 +108,29 @@ def _footprint(shell_tris: np.ndarray):
         return None
     z0 = float(shell_tris[flat][..., 2].min())
     plan = shapely.union_all(shapely.make_valid(shapely.polygons(shell_tris[flat][..., :2])))
-    plan = plan.buffer(SEAM_M, join_style="mitre").buffer(-SEAM_M, join_style="mitre")  # faces a rounding apart: one floor
+    plan = _joined(plan)
     polys = [g for g in getattr(plan, "geoms", [plan]) if g.geom_type == "Polygon" and g.area > 0]
     if not polys:
         return None
     poly = shapely.orient_polygons(max(polys, key=lambda g: g.area)) if hasattr(shapely, "orient_polygons") else max(polys, key=lambda g: g.area)
     return (np.asarray(poly.exterior.coords)[:-1], tuple(np.asarray(r.coords)[:-1] for r in poly.interiors), z0, z1)
+
+
+def _joined(plan):
+    """A floor's pieces joined: faces a rounding apart (:data:`SEAM_M`), and pieces of one space a
+    wall's thickness apart (Revit 2025: a bedroom's floor in two pieces 0.21 m apart, its Area their
+    sum), bridged by the gaps between them that a closing by :data:`JOIN_M` fills; a piece's own
+    notches are left as they are."""
+    import shapely
+
+    plan = plan.buffer(SEAM_M, join_style="mitre").buffer(-SEAM_M, join_style="mitre")
+    pieces = [g for g in shapely.get_parts(plan) if g.geom_type == "Polygon" and g.area > 0]
+    if len(pieces) < 2:
+        return plan
+    closed = plan.buffer(JOIN_M, join_style="mitre").buffer(-JOIN_M, join_style="mitre")
+    bridges = [g for g in shapely.get_parts(closed.difference(plan))
+               if sum(g.distance(p) < 10 * SEAM_M for p in pieces) >= 2]
+    return shapely.union_all([plan, *bridges]).buffer(SEAM_M, join_style="mitre").buffer(-SEAM_M, join_style="mitre")
 
 
 def _floor_of(s: SpaceRecord, shell: np.ndarray, surfaces):
@@ -244,7 +263,8 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
                          "(surfaces and openings as polygons)")
     spaces, no_floor = _spaces(doc, floors, [sh if s.shell else None for s, sh in zip(doc.spaces, shells)], verdict)
     notes, warnings = _notes(path.name, doc, reclassified, interior, no_floor, n_no_geometry)
-    warnings += _area_warnings(path.name, doc, floors)
+    windowed = {where for kind, where in verdict.values() if kind == "exterior"}
+    warnings += _area_warnings(path.name, doc, [fp if i in windowed else None for i, fp in enumerate(floors)])
     site = _site(path.name, doc)
     glz = sum(1 for v in verdict.values() if v[0] == "exterior")
     surf_counts = ", ".join(f"{k} {n}" for k, n in counts.items() if k not in GLAZED and k not in ("NonSlidingDoor", "Air"))
@@ -285,7 +305,8 @@ def _spaces(doc: Document, floors, bodies, verdict) -> tuple[list[Space], list[s
 
 def _area_warnings(name: str, doc: Document, floors) -> list[str]:
     """A warning naming the spaces whose footprint as read differs from the Space's own Area by more
-    than :data:`AREA_MISMATCH`: the reading, or the file, is off there (check the rooms' floors)."""
+    than :data:`AREA_MISMATCH`: the reading, or the file, is off there (check the rooms' floors);
+    ``floors``: None for the spaces not to check (those without a window)."""
     import shapely
 
     off = []
