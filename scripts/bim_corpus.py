@@ -2,7 +2,7 @@
 
 Every file of the folder gets a row. An IFC gets the project of the README's "From BIM" section
 (every IfcSpace a room, view and sunlight with their defaults, minimum levels required), a gbXML
-the same with ``gbxml_spaces: "*"``; a CityGML tile, which has no rooms, is the context of the box
+the same with ``gbxml_spaces: "*"``; a CityGML or CityJSON city model, which has no rooms, is the context of the box
 room of en17037cli.samples set down at the tile's centre on its lowest ground (the buildings it
 overlaps left out, as the project key ``exclude_overlapping`` does): what a user does with a city
 model. Each is run with ``en17037 check`` in a subprocess; the table lists the file, the tool that
@@ -14,7 +14,7 @@ fixed offset of the site's longitude (``Etc/GMT-1`` at 13 deg E): the hours are 
 zone, the days start at local midnight.
 
 Usage: python scripts/bim_corpus.py [FILE_OR_FOLDER ...] [--out DIR] [--set KEY=VALUE ...] [--markdown FILE]
-Default: every IFC, gbXML and CityGML file of ../shared/data/real-models/ (``make bim-corpus``).
+Default: every IFC, gbXML, CityGML and CityJSON file of ../shared/data/real-models/ (``make bim-corpus``).
 """
 from __future__ import annotations
 
@@ -69,6 +69,11 @@ def kind_of(path: Path) -> str | None:
     suffix = path.suffix.lower()
     if suffix == ".ifc":
         return "ifc"
+    if suffix == ".json":  # the "type" key may come last
+        try:
+            return "cityjson" if json.loads(path.read_text(encoding="utf-8")).get("type") == "CityJSON" else None
+        except (ValueError, AttributeError):
+            return None
     if suffix not in (".xml", ".gbxml", ".gml", ".citygml"):
         return None
     head = path.open("rb").read(4000).decode("utf-8", "replace")
@@ -110,23 +115,37 @@ def project_for(ifc: Path, out: Path, latitude: float, longitude: float, kind: s
     return p
 
 
-def citygml_project(gml: Path, out: Path) -> tuple[Path, str, str]:
-    """The box room set down at the centre of a CityGML tile's envelope, on its lowest point, in
-    the tile's CRS, with the tile as context: (project, tool, format)."""
-    import pyproj
-
+def city_extent(path: Path, kind: str) -> tuple[str, str, np.ndarray, np.ndarray]:
+    """(format, CRS, lowest corner, highest corner [the CRS's units]) of a CityGML tile (its
+    top-level gml:Envelope) or a CityJSON file (its vertices and referenceSystem)."""
     from en17037cli.io.citygml.crs import parse_srs_name
-    from en17037cli.samples import BoxRoom, box_room_project
 
-    head = gml.open("rb").read(20000).decode("utf-8", "replace")
+    if kind == "cityjson":
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        v = np.asarray(doc["vertices"], float)
+        tr = doc.get("transform")
+        if tr:
+            v = v * np.asarray(tr["scale"], float) + np.asarray(tr["translate"], float)
+        srs = (doc.get("metadata") or {}).get("referenceSystem", "")
+        return f"CityJSON {doc.get('version', '?')}", parse_srs_name(srs) or srs, v.min(axis=0), v.max(axis=0)
+    head = path.open("rb").read(20000).decode("utf-8", "replace")
     env = re.search(r"<gml:Envelope[^>]*srsName=\"([^\"]+)\"[^>]*>\s*<gml:lowerCorner>([^<]+)</gml:lowerCorner>\s*"
                     r"<gml:upperCorner>([^<]+)</gml:upperCorner>", head)
     version = re.search(r"http://www\.opengis\.net/citygml/(\d\.\d)", head)
-    fmt = f"CityGML {version[1] if version else '?'}"
     if env is None:
         raise ValueError("no gml:Envelope with a srsName at the top of the file")
-    crs = parse_srs_name(env[1]) or env[1]
     lo, hi = (np.array(c.split(), float) for c in (env[2], env[3]))
+    return f"CityGML {version[1] if version else '?'}", parse_srs_name(env[1]) or env[1], lo, hi
+
+
+def citygml_project(gml: Path, out: Path, kind: str = "citygml") -> tuple[Path, str, str]:
+    """The box room set down at the centre of a city model's extent, on its lowest point, in the
+    model's CRS, with the city model as context: (project, tool, format)."""
+    import pyproj
+
+    from en17037cli.samples import BoxRoom, box_room_project
+
+    fmt, crs, lo, hi = city_extent(gml, kind)
     centre = (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), lo[2])
     lon, lat = pyproj.Transformer.from_crs(crs, "EPSG:4326", always_xy=True).transform(centre[0], centre[1])
     folder = out / gml.stem
@@ -144,12 +163,12 @@ def citygml_project(gml: Path, out: Path) -> tuple[Path, str, str]:
 def run_one(ifc: Path, out: Path, overrides: list[str], latitude: float, longitude: float) -> dict:
     """Check one file; its row of the table."""
     kind = kind_of(ifc)
-    if kind == "citygml":
-        project, tool, schema = citygml_project(ifc, out)
+    if kind in ("citygml", "cityjson"):
+        project, tool, schema = citygml_project(ifc, out, kind)
     else:
         tool, schema = authoring_tool(ifc) if kind == "ifc" else gbxml_tool(ifc)[:2]
         project = project_for(ifc, out, latitude, longitude, kind or "ifc")
-    folder = out / f"{ifc.stem}-report" if kind == "citygml" else out / ifc.stem
+    folder = out / f"{ifc.stem}-report" if kind in ("citygml", "cityjson") else out / ifc.stem
     cmd = [sys.executable, "-m", "en17037cli", "check", str(project), "--out", str(folder), "-q", "--no-plots"]
     for o in overrides:
         cmd += ["--set", o]
@@ -162,7 +181,7 @@ def run_one(ifc: Path, out: Path, overrides: list[str], latitude: float, longitu
         r = json.loads(report.read_text(encoding="utf-8"))
         left = r.get("spaces_left_out", [])
         rooms = r["rooms"]
-        row.update(spaces="-" if kind == "citygml" else len(rooms) + len(left), rooms=len(rooms),
+        row.update(spaces="-" if kind in ("citygml", "cityjson") else len(rooms) + len(left), rooms=len(rooms),
                    assessed=sum(1 for room in rooms if any((room[c] or {}).get("status") in ("pass", "fail")
                                                            for c in ("view", "sunlight"))),
                    windowed_left_out=sum(1 for s in left if s["windows"]),
@@ -196,7 +215,7 @@ def main(argv: list[str] | None = None) -> int:
     a = ap.parse_args(argv)
     files = sorted({f for p in a.paths for f in ([p] if p.is_file() else sorted(p.iterdir())) if kind_of(f)})
     if not files:
-        print(f"no IFC, gbXML or CityGML file in {', '.join(map(str, a.paths))}", file=sys.stderr)
+        print(f"no IFC, gbXML, CityGML or CityJSON file in {', '.join(map(str, a.paths))}", file=sys.stderr)
         return 2
     a.out.mkdir(parents=True, exist_ok=True)
     rows = []
