@@ -1,8 +1,8 @@
 """Check real exports as a user would, and print the table of docs/bim.md and the README.
 
 Every file of the folder gets a row. An IFC gets the project of the README's "From BIM" section
-(every IfcSpace a room, view and sunlight with their defaults, minimum levels required), a gbXML
-the same with ``gbxml_spaces: "*"``; a CityGML or CityJSON city model, which has no rooms, is the context of the box
+(every IfcSpace a room, view and sunlight with their defaults, minimum levels required; a file
+with no space ``auto: true``), a gbXML the same with ``gbxml_spaces: "*"``; a CityGML or CityJSON city model, which has no rooms, is the context of the box
 room of en17037cli.samples set down at the tile's centre on its lowest ground (the buildings it
 overlaps left out, as the project key ``exclude_overlapping`` does): what a user does with a city
 model. Each is run with ``en17037 check`` in a subprocess; the table lists the file, the tool that
@@ -107,8 +107,10 @@ def project_for(ifc: Path, out: Path, latitude: float, longitude: float, kind: s
         location = {"latitude": latitude, "longitude": longitude}
         lon = longitude
     location["timezone"] = timezone_of(lon)
+    spaces = re.search(rb"IFCSPACE\s*\(" if kind == "ifc" else rb"<(\w+:)?Space[\s>]", ifc.read_bytes(), re.I)
+    rooms = [{"ifc_spaces" if kind == "ifc" else "gbxml_spaces": "*"}] if spaces else [{"auto": True}]  # no space: auto rooms
     doc = {"version": 1, "name": ifc.stem, "model": {"files": [{"path": str(ifc.resolve())}]}, "location": location,
-           "rooms": [{"ifc_spaces" if kind == "ifc" else "gbxml_spaces": "*"}], "view": {}, "sunlight": {"date": "worst"},
+           "rooms": rooms, "view": {}, "sunlight": {"date": "worst"},
            "requirements": {"view": "minimum", "sunlight": "minimum"}}
     p = out / f"{ifc.stem}.yaml"
     p.write_text(yaml.safe_dump(doc, sort_keys=False, allow_unicode=True), encoding="utf-8")
@@ -181,7 +183,8 @@ def run_one(ifc: Path, out: Path, overrides: list[str], latitude: float, longitu
         r = json.loads(report.read_text(encoding="utf-8"))
         left = r.get("spaces_left_out", [])
         rooms = r["rooms"]
-        row.update(spaces="-" if kind in ("citygml", "cityjson") else len(rooms) + len(left), rooms=len(rooms),
+        auto = any(r.get("auto") for r in r["inputs"]["config"]["rooms"])  # a file with no space: regions, not spaces
+        row.update(spaces="-" if kind in ("citygml", "cityjson") or auto else len(rooms) + len(left), rooms=len(rooms),
                    assessed=sum(1 for room in rooms if any((room[c] or {}).get("status") in ("pass", "fail")
                                                            for c in ("view", "sunlight"))),
                    windowed_left_out=sum(1 for s in left if s["windows"]),
