@@ -64,6 +64,13 @@ def site_longitude(path: Path) -> float | None:
     return compound_degrees(sites[0].RefLongitude) if sites else None
 
 
+def text_of(path: Path, limit: int | None = None) -> str:
+    """The file's text (or its first ``limit`` bytes'), UTF-16 where it opens with a byte-order mark
+    (Revit writes some gbXML so), else UTF-8."""
+    data = path.open("rb").read(limit) if limit else path.read_bytes()
+    return data.decode("utf-16" if data[:2] in (b"\xff\xfe", b"\xfe\xff") else "utf-8", "replace")
+
+
 def kind_of(path: Path) -> str | None:
     """'ifc', 'gbxml' or 'citygml' by the file's root, or None for anything else (a README)."""
     suffix = path.suffix.lower()
@@ -76,7 +83,7 @@ def kind_of(path: Path) -> str | None:
             return None
     if suffix not in (".xml", ".gbxml", ".gml", ".citygml"):
         return None
-    head = path.open("rb").read(4000).decode("utf-8", "replace")
+    head = text_of(path, 8000)
     root = re.search(r"<(?!\?|!)([\w.-]+:)?([\w.-]+)", head)
     return {"gbXML": "gbxml", "CityModel": "citygml"}.get(root[2] if root else "")
 
@@ -84,7 +91,7 @@ def kind_of(path: Path) -> str | None:
 def gbxml_tool(path: Path) -> tuple[str, str, float | None]:
     """(tool, format, longitude [deg] or None) of a gbXML file: DocumentHistory's ProgramInfo, the
     root's version, Campus/Location."""
-    text = path.read_text(encoding="utf-8", errors="replace")
+    text = text_of(path)
     product = re.search(r"<ProductName>([^<]*)</ProductName>", text)
     version = re.search(r"<gbXML[^>]*\sversion=\"([^\"]*)\"", text)
     lon = re.search(r"<Longitude>\s*([-+0-9.eE]+)\s*</Longitude>", text)
@@ -107,7 +114,7 @@ def project_for(ifc: Path, out: Path, latitude: float, longitude: float, kind: s
         location = {"latitude": latitude, "longitude": longitude}
         lon = longitude
     location["timezone"] = timezone_of(lon)
-    spaces = re.search(rb"IFCSPACE\s*\(" if kind == "ifc" else rb"<(\w+:)?Space[\s>]", ifc.read_bytes(), re.I)
+    spaces = re.search(r"IFCSPACE\s*\(" if kind == "ifc" else r"<(\w+:)?Space[\s>]", text_of(ifc), re.I)
     rooms = [{"ifc_spaces" if kind == "ifc" else "gbxml_spaces": "*"}] if spaces else [{"auto": True}]  # no space: auto rooms
     doc = {"version": 1, "name": ifc.stem, "model": {"files": [{"path": str(ifc.resolve())}]}, "location": location,
            "rooms": rooms, "view": {}, "sunlight": {"date": "worst"},
