@@ -40,8 +40,8 @@ mutation: $(STAMP)
 	  echo "mutmut run: exit $$code, $$(( ($$(date +%s) - start) / 60 )) min on $(MUTATION_JOBS) jobs (log: mutation-run.log)"
 	$(PY) scripts/mutation_report.py
 
-# The README's table of real IFC exports (docs/bim.md): every file of ../shared/data/real-models
-# checked as a user would; BIM_CORPUS=<files or folders> for others.
+# The README's table of real exports (docs/bim.md): every IFC, gbXML, CityGML and CityJSON file of
+# ../shared/data/real-models checked as a user would; BIM_CORPUS=<files or folders> for others.
 BIM_CORPUS ?= ../shared/data/real-models
 bim-corpus: $(STAMP)
 	$(PY) scripts/bim_corpus.py $(BIM_CORPUS) --out out/bim-corpus

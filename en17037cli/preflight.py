@@ -146,11 +146,21 @@ def layer_warnings(scene: Scene) -> list[str]:
 
 
 def landscape_warnings(project: Project, scene: Scene) -> list[str]:
-    """A view check on a model without surroundings cannot judge the layers: say so before it runs."""
-    from en17037cli.criteria.view import no_landscape
+    """A view check on a model without surroundings, or without any in front of a room's windows,
+    cannot judge the layers: say so before it runs."""
+    from en17037cli.criteria.view import no_landscape, sparse_surroundings
 
-    why = no_landscape(scene) if project.view is not None else None
-    return [] if why is None else [f"view: every room NOT ASSESSABLE: {why}"]
+    if project.view is None:
+        return []
+    why = no_landscape(scene)
+    if why is not None:
+        return [f"view: every room NOT ASSESSABLE: {why}"]
+    out = []
+    for room in scene.rooms:
+        why = sparse_surroundings(scene, room, project.view.surroundings_min_share) if room.problem is None else None
+        if why is not None:
+            out.append(f"view: room '{room.name}' NOT ASSESSABLE: {why}")
+    return out
 
 
 def space_warnings(scene: Scene) -> list[str]:

@@ -18,7 +18,10 @@ from en17037cli.samples.block import Block, block_project
 
 #: The Apache Ant JUnit schema (windyroad/JUnit-Schema, Apache-2.0; see the file's header).
 XSD = Path(__file__).parent / "data" / "JUnit.xsd"
-VIEW = {"grid_spacing_m": 1.5, "eye_heights_m": [1.2], "angular_resolution_deg": 3, "refine_levels": 1}
+#: surroundings_min_share 0: the block's only context lies across the street to the south; its north rooms'
+#: layers are judged on it (by default they are not assessable: no surroundings in front of them)
+VIEW = {"grid_spacing_m": 1.5, "eye_heights_m": [1.2], "angular_resolution_deg": 3, "refine_levels": 1,
+        "surroundings_min_share": 0}
 SUN = {"period": {"start": "02-01", "end": "02-03"}, "date": "worst"}
 
 

@@ -162,6 +162,8 @@ class ViewSettings:
     grid_offset: float = 0.0
     sight_angle_method: str = "plan"  # plan | fan
     mullions_block: bool = True  # members inside an opening cut the horizontal sight angle
+    #: share of the horizon in front of a room's windows the model's landscape must cover to judge the layers
+    surroundings_min_share: float = 0.25
 
 
 @dataclass(frozen=True)

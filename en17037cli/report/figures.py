@@ -230,7 +230,7 @@ class Painters:
 
         ctx = multiprocessing.get_context("fork")
         conn, child = ctx.Pipe()
-        proc = ctx.Process(target=_paint, args=(child,), name="en17037-pictures", daemon=True)
+        proc = ctx.Process(target=_paint, args=(child, self._pid), name="en17037-pictures", daemon=True)
         self._workers.append((conn, proc))
         # The child is forked with SIGINT and SIGTERM blocked and unblocks them once its own handlers
         # are set: a signal arriving in between must not run the parent's handler in the child.
@@ -270,9 +270,14 @@ class Painters:
             proc.join(timeout=5)
 
 
-def _paint(conn) -> None:
-    """The worker of :class:`Painters`: warm up, draw one batch of jobs, send the figures back."""
+def _paint(conn, run_pid: int) -> None:
+    """The worker of :class:`Painters`: warm up, draw one batch of jobs, send the figures back; it
+    ends with the run, even a run killed from outside (:mod:`~en17037cli.scale.lifeline`: it holds
+    a copy of the run's end of its pipe, so its ``recv`` would wait for ever)."""
     from en17037cli.report.pictures.canvas import warm_up
+    from en17037cli.scale.lifeline import end_with_parent
+
+    end_with_parent(run_pid, kernel=True)
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends this process
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

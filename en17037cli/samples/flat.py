@@ -19,6 +19,8 @@ WINDOWS = {"glass living south": ("living", "S", 1.0, 3.0, 0.8, 2.2),
            "glass living east": ("living", "E", 1.0, 2.5, 0.9, 2.2),
            "glass bedroom north": ("bedroom", "N", 1.0, 2.5, 0.9, 2.2)}
 WALL_M, STOREY_M, ROOM_HEIGHT_M = 0.3, 3.0, 2.7
+#: The wardrobe's plan (x0, y0, x1, y1) [m]: against the bedroom's east wall (x = 3.9), 0.9 m², 7.7 % of the bedroom.
+WARDROBE = (3.3, 4.6, 3.9, 6.1)
 
 
 @dataclass
@@ -31,6 +33,9 @@ class Flat:
     glazing_offset_m: float = 0.0  # > 0: the living room's south glazing floats this far outside its wall
     west_wall: bool = True  # False: the west wall left out (an open plan, a wall missing from the model)
     door_head_m: float = 2.1  # ROOM_HEIGHT_M: the door's opening runs up to the ceiling (no lintel)
+    #: > 0: a 0.6 x 1.5 m wardrobe this high against the bedroom's east wall (its inside hollow, as
+    #: a carcass of boards is drawn); ROOM_HEIGHT_M: a closet whose sides reach the ceiling
+    wardrobe_m: float = 0.0
 
 
 def box(x0, y0, z0, x1, y1, z1) -> list:
@@ -100,6 +105,8 @@ def flat_polygons(f: Flat | None = None) -> dict:
             fur += box(4.0, 2.5, z, 5.0, 3.3, z + 0.75)  # a table
             fur += box(5.4, 0.0, z, 6.0, 3.0, z + 0.9)  # a kitchen counter along the east wall
             fur += box(0.0, 5.1, z, 1.6, 7.1, z + 0.5)  # a bed against the west and north walls
+        if f.wardrobe_m:
+            out.setdefault("wardrobe", []).extend(box(*WARDROBE[:2], z, *WARDROBE[2:], z + f.wardrobe_m))
         if f.stair and k + 1 < f.storeys:
             out.setdefault("stair", []).extend(
                 sum((box(0.2, 0.3 + 0.28 * i, z, 1.1, 0.58 + 0.28 * i, z + 0.18 * (i + 1)) for i in range(8)), []))

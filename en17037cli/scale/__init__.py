@@ -71,9 +71,14 @@ class PoolExecutor:
     """A local pool of ``jobs`` worker processes; ``initializer(*initargs)`` runs in each."""
 
     def __init__(self, jobs: int, initializer: Callable | None = None, initargs: tuple = ()):
+        import os
+
+        from en17037cli.scale.lifeline import start_worker
+
         self.workers = jobs
-        self._pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=_context(), initializer=initializer,
-                                            initargs=initargs)
+        # each worker ends with this process, even killed (:mod:`~en17037cli.scale.lifeline`)
+        self._pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=_context(), initializer=start_worker,
+                                            initargs=(os.getpid(), initializer, *initargs))
 
     def submit(self, fn: Callable, *args) -> cf.Future:
         return self._pool.submit(fn, *args)

@@ -117,6 +117,12 @@ def _cut_drawn_openings(mesh: Mesh, part_layer: np.ndarray, unit_m: float, name:
 HORIZONTAL_CRS = {"EPSG:7415": "EPSG:28992"}  # Amersfoort / RD New + NAP height -> RD New
 
 
+def _plan_crs(code: str) -> str:
+    """The horizontal CRS of a code: 'EPSG:2263+6360' -> 'EPSG:2263', EPSG:7415 -> EPSG:28992."""
+    code = code.split("+")[0].strip()
+    return HORIZONTAL_CRS.get(code, code)
+
+
 def check_crs(files: list[LoadedFile], where: str) -> str | None:
     """The one CRS the georeferenced files share (a file's own ``crs`` key wins over what it says,
     a file its reader projected is in the CRS it was projected to), or None when none says;
@@ -128,7 +134,7 @@ def check_crs(files: list[LoadedFile], where: str) -> str | None:
         return None
     first = said[0]
     for d, c in said[1:]:
-        if HORIZONTAL_CRS.get(c, c) != HORIZONTAL_CRS.get(first[1], first[1]):
+        if _plan_crs(c) != _plan_crs(first[1]):
             raise InputError(f"{where}: model.files: {first[0]} is in {first[1]} but {d} is in {c}; give both in one CRS "
                              "(reproject one, or set the 'crs' key of a file whose own is wrong)")
     return first[1]

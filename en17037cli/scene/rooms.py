@@ -214,9 +214,15 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
         ceiling_z, ceiling_source = spec.ceiling_z - scene.origin[2], "given"
     else:
         ceiling_z, ceiling_source = derive_ceiling(scene, poly, floor_z)
+    if region is not None and spec.floor is None and not ceiling_source.startswith("no ceiling"):
+        from en17037cli.scene.furniture import furnished_floor
+
+        poly, added = furnished_floor(scene, plan, cell, ceiling_z)
+        if added > 0:
+            source += f", with {added:.2f} m² under furniture against its walls (it stops short of the ceiling)"
     windows, reasons = [], {}
     if spec.floor is None and region is not None and chosen is None:  # the walls' region: windows by the plan
-        return _room_of_cell(scene, spec, where, poly, cell, plan, floor_z, ceiling_z, ceiling_source)
+        return _room_of_cell(scene, spec, where, poly, cell, plan, floor_z, ceiling_z, ceiling_source, source)
     near = windows_near(scene, poly, floor_z, ceiling_z, spec.window_margin_m)
     if chosen is not None:  # matched by the caller: no geometric rule here
         windows, reasons, near = [w for w, _ in chosen], {w.name: why for w, why in chosen}, np.zeros(len(near), bool)
@@ -255,7 +261,7 @@ def _warn_floorless(scene: Scene, spec: RoomSpec, poly, floor_z: float, where: s
 
 
 def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, plan, floor_z: float, ceiling_z: float,
-                  ceiling_source: str) -> Room:
+                  ceiling_source: str, floor_source: str = "the region the walls enclose at eye height") -> Room:
     """A room whose floor is a region of the plan (:mod:`~en17037cli.scene.section`): its windows are
     those that open from that region (a probe from the glazing into the building meets it first)
     with half their height between floor and ceiling; a window named by the spec's globs that
@@ -292,8 +298,8 @@ def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, pla
         raise InputError(f"{where}.windows: no window matches {list(spec.windows)}; windows found: {known}")
     problem = None if windows else "no window opens from the region the walls enclose"
     return Room(name=spec.name, index=spec.index, floor_z=floor_z, floor=poly, windows=windows, spec=spec,
-                floor_source="the region the walls enclose at eye height", ceiling_z=ceiling_z,
-                ceiling_source=ceiling_source, window_reasons=reasons, problem=problem)
+                floor_source=floor_source, ceiling_z=ceiling_z, ceiling_source=ceiling_source, window_reasons=reasons,
+                problem=problem)
 
 
 #: Two rooms whose floors, at one level, share more than this part of the smaller one are one region
@@ -325,9 +331,35 @@ def check_shared_floors(rooms: list[Room], origin: np.ndarray, where: str) -> No
                 continue
             from en17037cli.scene.section import describe
 
+            given = _given_elsewhere(a, b, describe(a.floor, origin))
+            if given:
+                raise InputError(f"{where}: {given}")
             raise InputError(
                 f"{where}: rooms '{a.name}' and '{b.name}' get the same floor ({describe(a.floor, origin)}, "
                 f"z {a.floor_z + origin[2]:g} m): the walls at eye height do not separate them (an opening from "
                 "floor to ceiling between them, such as a door or a passage without a lintel, or a wall missing "
                 "from the model); give each room its floor: [[x, y], ...] (validate --plan DIR draws the region), "
                 "or declare them as one room")
+
+
+def _given_elsewhere(a: Room, b: Room, region: str) -> str:
+    """Why two rooms got one region when a window picked for one of them by its ``windows:`` globs
+    is a window of the other (it opens from the region the other room is in): that window named,
+    "" when they share no window named so (then the walls do not separate them)."""
+    shared = [w.name for w in a.windows if w.name in {v.name for v in b.windows}]
+    for name in shared:  # usually one
+        by = [r for r in (a, b) if r.spec.windows is not None and _globbed_name(name, r.spec.windows)]
+        if len(by) == 1:
+            x, y = by[0], (b if by[0] is a else a)
+            return (f"room '{x.name}' is given window '{name}' (windows: {list(x.spec.windows)}), which opens from the "
+                    f"region of room '{y.name}' ({region}); a window opens from one room: give '{x.name}' the windows "
+                    "of its own region, or inside: [x, y], or floor: [[x, y], ...]")
+        if len(by) == 2:
+            return (f"rooms '{a.name}' and '{b.name}' are both given window '{name}', which opens from one region "
+                    f"({region}); a window opens from one room: give each room the windows of its own region, or "
+                    "inside: [x, y], or floor: [[x, y], ...]")
+    return ""
+
+
+def _globbed_name(name: str, globs) -> bool:
+    return any(fnmatch.fnmatchcase(name, g) for g in globs)

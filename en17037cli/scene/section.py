@@ -17,7 +17,7 @@ the building, at most its wall's thickness away), or the one holding a point the
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -64,6 +64,9 @@ class Plan:
     walls: object
     cells: list
     covered: object = None  # cell index -> bool (:func:`_covered`), where the plan came from a scene
+    #: the bounded regions too narrow or small for a room: the inside of a wall solid, a reveal, a
+    #: doorway under its lintel, the inside of a wardrobe (:mod:`~en17037cli.scene.furniture`)
+    nooks: list = field(default_factory=list)
 
 
 def _segments(scene: Scene, z: float, layers=(INTERIOR, WINDOW)) -> np.ndarray:
@@ -117,15 +120,10 @@ def plan_at(scene: Scene, floor_z: float) -> Plan:
         return Plan(floor_z, shapely.MultiLineString(), [])
     lower = shapely.union_all(shapely.linestrings(segs))
     walls = shapely.union_all([lower, *(b for h in BRIDGE_HEIGHTS_M for b in _bridges(lower, segs, _segments(scene, floor_z + h)))])
-    # the walls thickened by half a gap each side: gaps of a drawing's tolerance close, lines need not
-    # be noded; each free region off the outside, grown back by as much, is a cell
-    thick = shapely.set_precision(walls, PRECISION_M).buffer(GAP_M / 2, cap_style="square", join_style="mitre")
-    x0, y0, x1, y1 = thick.bounds
-    outside = shapely.box(x0 - 1.0, y0 - 1.0, x1 + 1.0, y1 + 1.0)
-    free = [p for p in shapely.get_parts(outside.difference(thick)) if not p.intersects(outside.exterior)]
-    cells = [fill_small_holes(p.buffer(GAP_M / 2, join_style="mitre")) for p in free]
-    rooms = [c for c in cells if not c.is_empty and c.area > 1e-4
-             and shapely.length(shapely.maximum_inscribed_circle(c, SNAP_M)) >= MIN_ROOM_HALF_WIDTH_M]
+    cells = enclosed(walls)
+    wide = [not c.is_empty and c.area > 1e-4 and shapely.length(shapely.maximum_inscribed_circle(c, SNAP_M)) >= MIN_ROOM_HALF_WIDTH_M
+            for c in cells]
+    rooms = [c for c, ok in zip(cells, wide) if ok]
     memo: dict[int, bool] = {}
 
     def covered(i: int) -> bool:
@@ -133,7 +131,22 @@ def plan_at(scene: Scene, floor_z: float) -> Plan:
             memo[i] = _covered(scene, rooms[i], floor_z)
         return memo[i]
 
-    return Plan(floor_z, walls, rooms, covered)
+    return Plan(floor_z, walls, rooms, covered, [c for c, ok in zip(cells, wide) if not ok and not c.is_empty])
+
+
+def enclosed(walls) -> list:
+    """The regions the cut lines ``walls`` (shapely, local xy [m]) bound, holes smaller than
+    :data:`MIN_HOLE_M2` filled: the walls thickened by half a gap each side (gaps of a drawing's
+    tolerance close, lines need not be noded), each free region off the outside grown back by as much."""
+    import shapely
+
+    if walls.is_empty:
+        return []
+    thick = shapely.set_precision(walls, PRECISION_M).buffer(GAP_M / 2, cap_style="square", join_style="mitre")
+    x0, y0, x1, y1 = thick.bounds
+    outside = shapely.box(x0 - 1.0, y0 - 1.0, x1 + 1.0, y1 + 1.0)
+    free = [p for p in shapely.get_parts(outside.difference(thick)) if not p.intersects(outside.exterior)]
+    return [fill_small_holes(p.buffer(GAP_M / 2, join_style="mitre")) for p in free]
 
 
 def _covered(scene: Scene, cell, floor_z: float) -> bool:

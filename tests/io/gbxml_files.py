@@ -79,3 +79,105 @@ def write(directory: Path, text: str, name: str = "model.xml") -> Path:
     p = directory / name
     p.write_text(text, encoding="utf-8")
     return p
+
+
+# --- a house as Revit 2008-2010 exported it: feet, no version, no storeys, an AnalyticalShell ----------
+
+def _rect(x0, y0, x1, y1, z) -> list:
+    return [(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)]
+
+
+def _wall_ring(a, b, z0, z1) -> list:
+    """A vertical quad from plan point ``a`` to ``b`` between ``z0`` and ``z1``."""
+    return [(a[0], a[1], z0), (b[0], b[1], z0), (b[0], b[1], z1), (a[0], a[1], z1)]
+
+
+#: The house [ft]: two storeys 10 ft apart, rooms 9 ft high (interior), walls 0.5 ft thick drawn
+#: on their centre lines by the surfaces and the AnalyticalShell. Room -> (storey, interior
+#: x0, y0, x1, y1 [ft], its window on the south (y0) wall: x from, x to, sill, head [ft]).
+HOUSE_FT = {"1 Living": (0, 0.25, 0.25, 19.75, 14.75, (4.0, 10.0, 3.0, 7.0)),
+            "2 Kitchen": (0, 20.25, 0.25, 31.75, 14.75, (23.0, 27.0, 3.5, 7.0)),
+            "3 Bedroom": (1, 0.25, 0.25, 15.75, 14.75, (5.0, 9.0, 3.0, 7.0)),
+            "4 Bedroom": (1, 16.25, 0.25, 31.75, 14.75, (22.0, 26.0, 3.0, 7.0))}
+HOUSE_LEVEL_FT, HOUSE_ROOM_FT, HOUSE_HALF_WALL_FT = 10.0, 9.0, 0.25
+
+
+def old_revit_house() -> str:
+    """The gbXML of a two-storey house as Revit 2009 wrote it (``HOUSE_FT``): no version attribute,
+    lengthUnit Feet, no BuildingStorey; each Space's ShellGeometry (unit="Feet") holds its room's
+    ClosedShell and an AnalyticalShell (the space's surfaces on the walls' centre lines, from its
+    level to the next, each window a ShellOpening); the surfaces on the centre lines with their
+    Openings. Each room's Area is its interior footprint [ft²]."""
+    spaces, surfs = [], []
+    for k, (name, (storey, x0, y0, x1, y1, (wa, wb, sill, head))) in enumerate(HOUSE_FT.items()):
+        sid, z = f"sp-{k + 1}", storey * HOUSE_LEVEL_FT
+        closed = "".join(poly_loop(r) for r in box_shell(x0, x1, y0, y1, z, z + HOUSE_ROOM_FT))
+        e = HOUSE_HALF_WALL_FT
+        ax0, ay0, ax1, ay1 = x0 - e, y0 - e, x1 + e, y1 + e
+        corners = [(ax0, ay0), (ax1, ay0), (ax1, ay1), (ax0, ay1)]
+        window = _wall_ring((wa, ay0), (wb, ay0), z + sill, z + head)
+        shell_surfaces = [("Floor", _rect(ax0, ay0, ax1, ay1, z)[::-1], ""),
+                          ("Ceiling", _rect(ax0, ay0, ax1, ay1, z + HOUSE_LEVEL_FT), "")]
+        for i in range(4):
+            op = (f'<ShellOpening openingType="OperableWindow">{poly_loop(window)}</ShellOpening>' if i == 0 else "")
+            shell_surfaces.append(("Wall", _wall_ring(corners[i], corners[(i + 1) % 4], z, z + HOUSE_LEVEL_FT), op))
+        analytical = "".join(f'<ShellSurface surfaceType="{t}">{poly_loop(r)}{op}</ShellSurface>' for t, r, op in shell_surfaces)
+        area = (x1 - x0) * (y1 - y0)
+        spaces.append(f'<Space id="{sid}" zoneIdRef="zone-Default"><Name>{name}</Name><Area>{area!r}</Area>'
+                      f'<ShellGeometry id="sg-{sid}" unit="Feet"><ClosedShell>{closed}</ClosedShell>'
+                      f"<AnalyticalShell>{analytical}</AnalyticalShell></ShellGeometry></Space>")
+        surfs.append(surface(f"su-{sid}-s", "ExteriorWall", _wall_ring(corners[0], corners[1], z, z + HOUSE_LEVEL_FT), (sid,),
+                             [(f"su-{sid}-s-op-1", "OperableWindow", window, f"window {name}")]))
+        for i in (1, 2, 3):
+            surfs.append(surface(f"su-{sid}-{i}", "ExteriorWall", _wall_ring(corners[i], corners[(i + 1) % 4], z,
+                                                                              z + HOUSE_LEVEL_FT), (sid,)))
+        surfs.append(surface(f"su-{sid}-f", "SlabOnGrade" if storey == 0 else "InteriorFloor", _rect(ax0, ay0, ax1, ay1, z),
+                             (sid,)))
+        if storey == 1:
+            surfs.append(surface(f"su-{sid}-r", "Roof", _rect(ax0, ay0, ax1, ay1, z + HOUSE_LEVEL_FT), (sid,)))
+    return ('<?xml version="1.0"?>\n<gbXML temperatureUnit="F" lengthUnit="Feet" areaUnit="SquareFeet" '
+            'volumeUnit="CubicFeet" useSIUnitsForResults="false" xmlns="http://www.gbxml.org/schema">'
+            '<Campus id="cmps-1"><Location><Name>Boston, MA</Name><Latitude>42.213</Latitude><Longitude>-71.033'
+            f'</Longitude></Location><Building id="bldg-1" buildingType="SingleFamily">{"".join(spaces)}</Building>'
+            f'{"".join(surfs)}</Campus><Zone id="zone-Default"><Name>Default</Name></Zone></gbXML>\n')
+
+
+# --- a space whose ShellGeometry is not closed, as Revit 2025 writes some ---------------------------
+
+#: The L-shaped living room [m]: its floor outline (interior, counterclockwise), 15.6 m², 2.45 m to 5.47 m;
+#: the window in the south wall (y = -5.44, the wall's face 0.46 m south of the floor's outline).
+L_FLOOR = [(0.35, -4.985), (5.476, -4.985), (5.476, -2.263), (2.16, -2.263), (2.16, -1.355), (0.35, -1.355)]
+L_Z = (2.45, 5.47)
+L_WINDOW = [(1.5, -5.442, 3.25), (4.5, -5.442, 3.25), (4.5, -5.442, 5.25), (1.5, -5.442, 5.25)]
+
+
+def l_floor_area() -> float:
+    import shapely
+
+    return shapely.Polygon(L_FLOOR).area
+
+
+def open_shell_room() -> str:
+    """A gbXML (metres, version 7.03, Revit 2025) with one L-shaped Space whose ShellGeometry is not
+    closed: its floor and its ceiling (the ceiling only over the floor's southern part, a roof slope
+    being left out) and four pieces of its walls, drawn on the walls' faces and stopping short; its
+    Area the floor's. The exterior walls around it as Surfaces, the window an Opening of the south wall."""
+    z0, z1 = L_Z
+    floor = [(x, y, z0) for x, y in L_FLOOR[::-1]]  # facing down
+    ceiling = [(0.36, -4.93, z1), (5.52, -4.93, z1), (5.52, -2.8, z1), (0.36, -2.8, z1)]
+    walls = [[(0.867, -5.442, z0), (5.987, -5.442, z0), (5.987, -5.442, z1), (0.867, -5.442, z1)],
+             [(5.987, -5.442, z0), (5.987, -1.847, z0), (5.987, -1.847, z1), (5.987, -5.442, z1)],
+             [(2.752, -1.847, z0), (2.752, -1.847, z1), (5.987, -1.847, z1), (5.987, -1.847, z0)],
+             [(0.0, -0.737, z0), (1.642, -0.737, z0), (1.642, -0.737, z1), (0.0, -0.737, z1)]]
+    loops = "".join(poly_loop(r) for r in [floor, ceiling, *walls])
+    sp = (f'<Space id="aim1947" buildingStoreyIdRef="st1" zoneIdRef="z1"><Name>24 Soggiorno</Name>'
+          f'<Area>{l_floor_area()!r}</Area><ShellGeometry id="sh"><ClosedShell>{loops}</ClosedShell></ShellGeometry></Space>')
+    x0, y0, x1, y1 = 0.0, -5.442, 5.987, -0.9
+    surfs = [surface("s-south", "ExteriorWall", [(x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)], ("aim1947",),
+                     [("o-1", "OperableWindow", L_WINDOW, "S-24-E-W-53-W-1")]),
+             surface("s-east", "ExteriorWall", [(x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)], ("aim1947",)),
+             surface("s-north", "ExteriorWall", [(x1, y1, z0), (x0, y1, z0), (x0, y1, z1), (x1, y1, z1)], ("aim1947",)),
+             surface("s-west", "ExteriorWall", [(x0, y1, z0), (x0, y0, z0), (x0, y0, z1), (x0, y1, z1)], ("aim1947",)),
+             surface("s-floor", "InteriorFloor", [(x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)], ("aim1947",)),
+             surface("s-roof", "Roof", [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)], ("aim1947",))]
+    return document([sp], surfs, version="7.03", lat=41.9, lon=12.5)

@@ -163,7 +163,10 @@ def run(args: list[str], stdin: bytes | None = None, cwd: Path | None = None) ->
 
     lib = str(Path(pyradiance.__file__).parent / "lib")
     env["RAYPATH"] = os.pathsep.join([".", lib])
-    proc = subprocess.run([str(exe), *args[1:]], input=stdin, capture_output=True, cwd=cwd, env=env, check=False)
+    from en17037cli.scale.lifeline import program_ends_with_me
+
+    proc = subprocess.run([str(exe), *args[1:]], input=stdin, capture_output=True, cwd=cwd, env=env, check=False,
+                          preexec_fn=program_ends_with_me())  # ends with the run, even killed
     if proc.returncode == -signal.SIGINT:  # Ctrl-C reached the program too: the run is interrupted, not broken
         raise KeyboardInterrupt
     if proc.returncode != 0:

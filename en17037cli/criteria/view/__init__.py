@@ -13,23 +13,20 @@ from en17037cli.criteria.view.pictures import room_plan
 from en17037cli.criteria.view.rays import ViewRays
 from en17037cli.criteria.view.report import view_section
 from en17037cli.criteria.view.results import ViewResult
+from en17037cli.criteria.view.surroundings import no_landscape, sparse_surroundings
 from en17037cli.criteria.view.viewpoints import viewpoints
 from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Project, ViewSettings
-from en17037cli.scene.model import LANDSCAPE, Scene, room_window_group
+from en17037cli.scene.model import Scene, room_window_group
+
+__all__ = ["ViewCriterion", "layers_unjudged", "no_landscape", "sparse_surroundings"]
 
 
-def no_landscape(scene: Scene) -> str | None:
-    """Why the view layers cannot be judged on ``scene``, or None: a model with no face on the
-    ``landscape`` layer (a building exported without its surroundings) shows no landscape from any
-    window, so every room's layers would read 'none' (EN 17037 Table A.5 needs the landscape layer
-    for every level) whatever the design. Not a failure of the design: not assessable."""
-    if (scene.layer == LANDSCAPE).any():
-        return None
-    return ("the view layers cannot be assessed: the model has no landscape (no face on the 'landscape' layer: no "
-            "neighbouring buildings, trees or terrain), and EN 17037 Table A.5 needs the landscape layer for every level; "
-            "add the surroundings as another model file (a CityJSON tile, an OBJ of the neighbours) or put objects on "
-            "'landscape' with a layer rule")
+def layers_unjudged(scene: Scene, room, settings: ViewSettings) -> str | None:
+    """Why the view layers of ``room`` cannot be judged, or None: the model has no landscape at all
+    (:func:`~.surroundings.no_landscape`), or none in front of the room's windows
+    (:func:`~.surroundings.sparse_surroundings`)."""
+    return no_landscape(scene) or sparse_surroundings(scene, room, settings.surroundings_min_share)
 
 
 def layers_aside(result: ViewResult) -> str:
@@ -83,7 +80,7 @@ class ViewCriterion(Criterion):
         if "view_rays" not in ctx.cache:
             ctx.cache["view_rays"] = ViewRays(ctx.engine, ctx.scene)
         reuse = ctx.cache.get("view_reuse", {}).get(room.name)  # set by the sensitivity study only
-        why = no_landscape(ctx.scene)
+        why = layers_unjudged(ctx.scene, room, self._settings(ctx))
         layers = why is None or ctx.cache.get("view_all_layers", False)  # the studies keep them
         result = assess_room(ctx.cache["view_rays"], ctx.scene, room, self._settings(ctx), ctx.project.thresholds, plan, progress,
                              reuse, layers)

@@ -39,8 +39,8 @@ VIEW_METHOD = {
 
 
 #: The method entry of the solid angles where they were not traced.
-NOT_TRACED = ("not traced: the model has no landscape, so the layers cannot be judged and the room's view is not "
-              "assessable; sight angle and outside distance are measured as usual")
+NOT_TRACED = ("not traced: the model has no landscape (in front of the room's windows), so the layers cannot be judged "
+              "and the room's view is not assessable; sight angle and outside distance are measured as usual")
 
 
 def view_method(settings: ViewSettings) -> dict:

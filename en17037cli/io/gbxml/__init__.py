@@ -45,8 +45,8 @@ from en17037cli.errors import InputError
 from en17037cli.geometry import triangulate_polygons
 from en17037cli.io import ReadOptions, register
 from en17037cli.io.cityjson.semantics import counted
-from en17037cli.io.gbxml.parse import Document, read_document
-from en17037cli.io.gbxml.sides import glazing_sides, points_in_shells
+from en17037cli.io.gbxml.parse import Document, SpaceRecord, read_document
+from en17037cli.io.gbxml.sides import UP, crossings, glazing_sides
 from en17037cli.io.mesh import Mesh, Part, Site, Space
 from en17037cli.io.openings import plane_basis, polygon_minus_openings
 
@@ -56,6 +56,12 @@ EXTERIOR_SURFACES = ("ExteriorWall", "Roof", "ExposedFloor", "RaisedFloor", "Und
 #: An opening lies on its host surface within this distance [m] (authoring tools leave some noise)
 OPENING_PLANE_M = 0.05
 SPACE_KIND = "gbXML Space"
+#: A space's floor faces this close are one floor (coordinates rounded by the exporter) [m] ...
+SEAM_M = 1e-3
+#: ... and its floor pieces less than twice this apart (a wall of the space's own through it) [m]
+JOIN_M = 0.175
+#: A footprint whose area differs from the Space's own Area by more than this share is warned [-]
+AREA_MISMATCH = 0.1
 
 
 def _lxml(path: Path):
@@ -82,9 +88,11 @@ def _triangles(loops: list[np.ndarray]) -> list[np.ndarray]:
 
 
 def _footprint(shell_tris: np.ndarray):
-    """(outer ring (k, 2), holes, z0, z1) of a shell's floor: the faces not steeper than 60 deg with the
-    space's inside 5 cm above their centroid (ray parity), projected and unioned, at their lowest
-    point (a raked floor's lowest point; a stepped floor's lowest step)."""
+    """(outer ring (k, 2), holes, z0, z1) of a shell's floor: the faces not steeper than 60 deg with
+    no face of the shell under them (a ray down from just under their centroid crosses nothing: the
+    bottom of the volume, for a closed shell exactly, and for one whose walls or ceiling are drawn
+    short, as Revit 2025 writes some, still), projected and unioned, at their lowest point (a raked
+    floor's lowest point; a stepped floor's lowest step)."""
     import shapely
 
     if len(shell_tris) == 0:
@@ -93,18 +101,51 @@ def _footprint(shell_tris: np.ndarray):
     n = np.cross(shell_tris[:, 1] - shell_tris[:, 0], shell_tris[:, 2] - shell_tris[:, 0])
     norm = np.linalg.norm(n, axis=1)
     gentle = (np.abs(n[:, 2]) > 0.5 * norm) & (norm > 0)
-    above = shell_tris[gentle].mean(axis=1) + [0.0, 0.0, 0.05]
+    below = shell_tris[gentle].mean(axis=1) - [0.0, 0.0, 0.01]
     flat = np.zeros(len(shell_tris), dtype=bool)
-    flat[np.flatnonzero(gentle)] = points_in_shells(above, [shell_tris])[:, 0]
+    flat[np.flatnonzero(gentle)] = crossings(below, shell_tris, -UP) == 0
     if not flat.any():
         return None
     z0 = float(shell_tris[flat][..., 2].min())
     plan = shapely.union_all(shapely.make_valid(shapely.polygons(shell_tris[flat][..., :2])))
+    plan = _joined(plan)
     polys = [g for g in getattr(plan, "geoms", [plan]) if g.geom_type == "Polygon" and g.area > 0]
     if not polys:
         return None
     poly = shapely.orient_polygons(max(polys, key=lambda g: g.area)) if hasattr(shapely, "orient_polygons") else max(polys, key=lambda g: g.area)
     return (np.asarray(poly.exterior.coords)[:-1], tuple(np.asarray(r.coords)[:-1] for r in poly.interiors), z0, z1)
+
+
+def _joined(plan):
+    """A floor's pieces joined: faces a rounding apart (:data:`SEAM_M`), and pieces of one space a
+    wall's thickness apart (Revit 2025: a bedroom's floor in two pieces 0.21 m apart, its Area their
+    sum), bridged by the gaps between them that a closing by :data:`JOIN_M` fills; a piece's own
+    notches are left as they are."""
+    import shapely
+
+    plan = plan.buffer(SEAM_M, join_style="mitre").buffer(-SEAM_M, join_style="mitre")
+    pieces = [g for g in shapely.get_parts(plan) if g.geom_type == "Polygon" and g.area > 0]
+    if len(pieces) < 2:
+        return plan
+    closed = plan.buffer(JOIN_M, join_style="mitre").buffer(-JOIN_M, join_style="mitre")
+    bridges = [g for g in shapely.get_parts(closed.difference(plan))
+               if sum(g.distance(p) < 10 * SEAM_M for p in pieces) >= 2]
+    return shapely.union_all([plan, *bridges]).buffer(SEAM_M, join_style="mitre").buffer(-SEAM_M, join_style="mitre")
+
+
+def _floor_of(s: SpaceRecord, shell: np.ndarray, surfaces):
+    """The footprint of a space (:func:`_footprint`): from its shell, else its PlanarGeometry, else its
+    floor surfaces; None without any."""
+    fp = _footprint(shell)
+    if fp is None and s.planar:
+        ring = s.planar[0]
+        fp = (ring[:, :2], (), float(ring[:, 2].min()), float(ring[:, 2].max()))
+    if fp is None:
+        floors = [srf.loop for srf in surfaces if s.id in srf.spaces and srf.kind in FLOORS and srf.loop is not None]
+        fp = _footprint(np.concatenate(_triangles(floors))) if floors else None
+    if fp is not None and len(shell):
+        fp = (*fp[:3], float(shell[..., 2].max()))
+    return fp
 
 
 class _Builder:
@@ -158,6 +199,7 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
         if len(shells[i]) == 0:
             own = [t for t, srf in zip(surf_tris, surfaces) if s.id in srf.spaces]
             shells[i] = np.concatenate(own) if own else np.zeros((0, 3, 3))
+    floors = [_floor_of(s, shells[i], surfaces) for i, s in enumerate(doc.spaces)]
 
     glazed = [(si, o) for si, srf in enumerate(surfaces) for o in srf.openings
               if o.kind in GLAZED and o.loop is not None and len(o.loop) >= 3 and o.id not in excluded]
@@ -219,8 +261,10 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
     if len(tris) == 0:
         raise InputError(f"{path}: no Surface with PlanarGeometry in the gbXML file; export it with its geometry "
                          "(surfaces and openings as polygons)")
-    spaces, no_floor = _spaces(doc, shells, surfaces, verdict)
+    spaces, no_floor = _spaces(doc, floors, [sh if s.shell else None for s, sh in zip(doc.spaces, shells)], verdict)
     notes, warnings = _notes(path.name, doc, reclassified, interior, no_floor, n_no_geometry)
+    windowed = {where for kind, where in verdict.values() if kind == "exterior"}
+    warnings += _area_warnings(path.name, doc, [fp if i in windowed else None for i, fp in enumerate(floors)])
     site = _site(path.name, doc)
     glz = sum(1 for v in verdict.values() if v[0] == "exterior")
     surf_counts = ", ".join(f"{k} {n}" for k, n in counts.items() if k not in GLAZED and k not in ("NonSlidingDoor", "Air"))
@@ -233,8 +277,9 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
     return Mesh(verts, tris, part, b.parts, warnings, notes, units="m", up_axis="z", site=site, spaces=spaces, summary=summary)
 
 
-def _spaces(doc: Document, shells, surfaces, verdict) -> tuple[list[Space], list[str]]:
-    """:class:`Space` of each gbXML space with a floor; the names of those without one."""
+def _spaces(doc: Document, floors, bodies, verdict) -> tuple[list[Space], list[str]]:
+    """:class:`Space` of each gbXML space with a floor (``floors``: :func:`_floor_of`; ``bodies``:
+    the closed shell, or None where the space has none); the names of those without one."""
     hints: dict = {}
     for oid, (kind, where) in verdict.items():
         if kind == "exterior" and where >= 0:
@@ -244,26 +289,38 @@ def _spaces(doc: Document, shells, surfaces, verdict) -> tuple[list[Space], list
     for s in doc.spaces:
         seen[s.name] = seen.get(s.name, 0) + 1
     for i, s in enumerate(doc.spaces):
-        fp = _footprint(shells[i])
-        if fp is None and s.planar:
-            ring = s.planar[0]
-            fp = (ring[:, :2], (), float(ring[:, 2].min()), float(ring[:, 2].max()))
-        if fp is None:
-            floors = [srf.loop for srf in surfaces if s.id in srf.spaces and srf.kind in FLOORS and srf.loop is not None]
-            fp = _footprint(np.concatenate(_triangles(floors))) if floors else None
+        fp = floors[i]
         if fp is None:
             no_floor.append(s.name)
             continue
         ring, holes, z0, z1 = fp
-        if len(shells[i]):
-            z1 = float(shells[i][..., 2].max())
         # a Name shared by several spaces: the room is "Name (id)" (room_name's 'LongName (Name)')
         name, long_name = (s.id, s.name) if seen[s.name] > 1 else (s.name, "")
         out.append(Space(id=s.id, name=name, long_name=long_name, storey=doc.storeys.get(s.storey, ""), footprint=ring,
                          floor_z=z0, top_z=z1, windows=tuple(sorted(hints.get(i, ()))),
                          zones=tuple(z for z in (doc.zones.get(s.zone),) if z), holes=holes, kind=SPACE_KIND,
-                         body=shells[i] if s.shell else None))  # the closed shell is the volume: windows match it
+                         body=bodies[i]))  # the closed shell is the volume: windows match it
     return out, no_floor
+
+
+def _area_warnings(name: str, doc: Document, floors) -> list[str]:
+    """A warning naming the spaces whose footprint as read differs from the Space's own Area by more
+    than :data:`AREA_MISMATCH`: the reading, or the file, is off there (check the rooms' floors);
+    ``floors``: None for the spaces not to check (those without a window)."""
+    import shapely
+
+    off = []
+    for s, fp in zip(doc.spaces, floors):
+        if fp is None or s.area_m2 is None:
+            continue
+        a = shapely.Polygon(fp[0], fp[1]).area
+        if abs(a - s.area_m2) > AREA_MISMATCH * s.area_m2:
+            off.append(f"'{s.name}' {a:.1f} m² (Area {s.area_m2:.1f} m²)")
+    if not off:
+        return []
+    return [f"{name}: the floor read of {counted(len(off), 'space')} differs from the Area the file gives by more "
+            f"than {AREA_MISMATCH:.0%}: {'; '.join(off[:8])}{' ...' if len(off) > 8 else ''}; check those rooms' floors "
+            "(validate --plan DIR draws them)"]
 
 
 def _notes(name: str, doc: Document, reclassified, interior, no_floor, n_no_geometry) -> tuple[list, list]:

@@ -19,6 +19,9 @@ from en17037cli.errors import InputError
 #: gbXML lengthUnitEnum -> metres
 LENGTH_UNITS = {"Kilometers": 1000.0, "Meters": 1.0, "Centimeters": 0.01, "Millimeters": 0.001, "Miles": 1609.344,
                 "Yards": 0.9144, "Feet": 0.3048, "Inches": 0.0254}
+#: gbXML areaUnitEnum -> square metres
+AREA_UNITS = {"SquareKilometers": 1e6, "SquareMeters": 1.0, "SquareCentimeters": 1e-4, "SquareMillimeters": 1e-6,
+              "SquareMiles": 1609.344 ** 2, "SquareYards": 0.9144 ** 2, "SquareFeet": 0.3048 ** 2, "SquareInches": 0.0254 ** 2}
 
 
 def local(tag) -> str:
@@ -86,6 +89,7 @@ class SpaceRecord:
     zone: str  # zoneIdRef
     shell: list[np.ndarray]  # ShellGeometry ClosedShell loops [m]
     planar: list[np.ndarray]  # the Space's own PlanarGeometry loops [m]
+    area_m2: float | None = None  # the Space's Area as the file gives it, in m² (None: not given or no areaUnit)
 
 
 @dataclass
@@ -93,6 +97,7 @@ class Document:
     version: str
     unit: str
     scale: float
+    area_scale: float | None = None  # areaUnit -> m², None where the file gives none (or an unknown one)
     latitude: float | None = None
     longitude: float | None = None
     elevation: float | None = None
@@ -122,7 +127,7 @@ def read_document(path: Path, etree) -> Document:
             name = local(el.tag)
             try:
                 if name == "Space" and el.getparent() is not None and local(el.getparent().tag) == "Building":
-                    doc.spaces.append(_space(el, doc.scale))
+                    doc.spaces.append(_space(el, doc.scale, doc.area_scale))
                 elif name == "Surface" and el.getparent() is not None and local(el.getparent().tag) == "Campus":
                     doc.surfaces.append(_surface(el, doc.scale))
                 elif name == "Location":
@@ -163,18 +168,28 @@ def _root(path: Path, root) -> Document:
     if unit not in LENGTH_UNITS:
         raise InputError(f"{path}: lengthUnit '{unit}' is not a gbXML length unit ({', '.join(LENGTH_UNITS)}); "
                          "export the file again")
-    return Document(version=root.get("version", "?"), unit=unit, scale=LENGTH_UNITS[unit])
+    return Document(version=root.get("version", "?"), unit=unit, scale=LENGTH_UNITS[unit],
+                    area_scale=AREA_UNITS.get(root.get("areaUnit", "")))
 
 
-def _space(el, scale: float) -> SpaceRecord:
+def _space(el, scale: float, area_scale: float | None = None) -> SpaceRecord:
+    """A Space's record. Its shell is the ``ClosedShell`` of its ``ShellGeometry`` only: older Revit
+    exports (2008-2010) also write an ``AnalyticalShell`` there, the space's surfaces on the walls'
+    centre lines and the next level, with their openings; its loops are not the room's volume. A
+    ``unit`` on the ShellGeometry (those exports write it) scales its coordinates."""
     shell = []
     sg = _child(el, "ShellGeometry")
     if sg is not None:
-        shell = _loops(sg, scale)
+        closed = _child(sg, "ClosedShell")
+        unit = LENGTH_UNITS.get(sg.get("unit", ""), scale)
+        shell = _loops(closed, unit) if closed is not None else [lp for c in sg if local(c.tag) == "PolyLoop"
+                                                                  for lp in _loops(c, unit)]
     pg = _child(el, "PlanarGeometry")
+    area = _float(_text(el, "Area"))
     return SpaceRecord(id=el.get("id", ""), name=_text(el, "Name") or el.get("id", ""),
                        storey=el.get("buildingStoreyIdRef", ""), zone=el.get("zoneIdRef", ""), shell=shell,
-                       planar=_loops(pg, scale) if pg is not None else [])
+                       planar=_loops(pg, scale) if pg is not None else [],
+                       area_m2=None if area is None or area_scale is None or area <= 0 else area * area_scale)
 
 
 def _surface(el, scale: float) -> Surface:

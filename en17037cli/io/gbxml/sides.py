@@ -17,34 +17,45 @@ PROBE_M = (0.15, 0.3, 0.5, 0.75, 1.0)
 #: A generic direction for the parity rays (not parallel to walls, floors or common roof slopes).
 _RAY = np.array([0.5773, 0.3321, 0.7459])
 _RAY = _RAY / np.linalg.norm(_RAY)
+#: Almost straight up (off vertical by about 1.4 deg, so that it runs along no vertical face and
+#: through no common edge).
+UP = np.array([0.0123, 0.0211, 1.0])
+UP = UP / np.linalg.norm(UP)
+
+
+def crossings(points: np.ndarray, tri: np.ndarray, ray: np.ndarray = _RAY) -> np.ndarray:
+    """(p,) int: how many triangles of ``tri`` ((t, 3, 3) [m]) the ray from each point along the unit
+    direction ``ray`` crosses ahead.
+
+    Möller-Trumbore intersection, vectorised over points and triangles (Möller & Trumbore 1997,
+    doi:10.1080/10867651.1997.10487468).
+    """
+    if len(tri) == 0 or len(points) == 0:
+        return np.zeros(len(points), dtype=np.int64)
+    a, e1, e2 = tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    pvec = np.cross(ray, e2)  # (t, 3)
+    det = np.einsum("ij,ij->i", e1, pvec)
+    ok = np.abs(det) > 1e-12
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    tvec = points[:, None, :] - a[None]  # (p, t, 3)
+    u = np.einsum("ptj,tj->pt", tvec, pvec) * inv
+    qvec = np.cross(tvec, e1[None])
+    v = np.einsum("j,ptj->pt", ray, qvec) * inv
+    t = np.einsum("ptj,tj->pt", qvec, e2) * inv
+    return (ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)).sum(axis=1)
 
 
 def points_in_shells(points: np.ndarray, shells: list[np.ndarray]) -> np.ndarray:
-    """(p, s) bool: point p inside closed shell s (triangles (t, 3, 3) [m]), by the parity of crossings.
-
-    Möller-Trumbore intersection of one ray per point (direction :data:`_RAY`) with every triangle
-    of a shell, vectorised over points and triangles (Möller & Trumbore 1997, doi:10.1080/10867651.1997.10487468).
-    """
+    """(p, s) bool: point p inside closed shell s (triangles (t, 3, 3) [m]), by the parity of the
+    crossings of one ray per point along :data:`_RAY` (:func:`crossings`)."""
     out = np.zeros((len(points), len(shells)), dtype=bool)
     for s, tri in enumerate(shells):  # one pass per space
         if len(tri) == 0:
             continue
         lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
         near = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1))  # outside its box: outside it
-        if len(near) == 0:
-            continue
-        a, e1, e2 = tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
-        pvec = np.cross(_RAY, e2)  # (t, 3)
-        det = np.einsum("ij,ij->i", e1, pvec)
-        ok = np.abs(det) > 1e-12
-        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-        tvec = points[near][:, None, :] - a[None]  # (p, t, 3)
-        u = np.einsum("ptj,tj->pt", tvec, pvec) * inv
-        qvec = np.cross(tvec, e1[None])
-        v = np.einsum("j,ptj->pt", _RAY, qvec) * inv
-        t = np.einsum("ptj,tj->pt", qvec, e2) * inv
-        hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-        out[near, s] = (hit.sum(axis=1) % 2) == 1
+        if len(near):
+            out[near, s] = crossings(points[near], tri) % 2 == 1
     return out
 
 
@@ -74,3 +85,4 @@ def glazing_sides(centres: np.ndarray, normals: np.ndarray, shells: list[np.ndar
         space = np.argmax(inside[np.arange(w), first], axis=1)
         sides.append(np.where(any_at.any(axis=1), space, -1))
     return sides[0], sides[1]
+
