@@ -256,3 +256,20 @@ def test_a_space_drawn_off_its_walls_keeps_the_windows_its_surfaces_name(tmp_pat
     assert code == 0, out
     assert "window 'glazing'" in out and "in no room" not in out
     assert "named by the model's space boundaries; the space as drawn lies 3.00 m from its glazing" in out
+
+
+def test_a_windowed_space_with_no_floor_is_left_out_by_name_never_dropped(tmp_path):
+    """A gbXML Space whose shell and floor surface are missing (Revit 2009's ZNETH had six): it is
+    listed as left out with its window, and the run cannot pass; before, it vanished from the
+    count of spaces with windows not assessed."""
+    import re
+
+    text = re.sub(r"<ShellGeometry .*?</ShellGeometry>", "", box_room_gbxml())
+    text = re.sub(r'<Surface [^>]*surfaceType="SlabOnGrade".*?</Surface>', "", text, flags=re.S)
+    p = gbxml_project(tmp_path / "m", text)
+    code, _ = run(["check", str(p), "--out", str(tmp_path / "r"), "--no-plots", "-q"])
+    rep = json.loads((tmp_path / "r" / "report.json").read_text())
+    assert code == 1 and rep["status"] == "fail"
+    (lo,) = rep["spaces_left_out"]
+    assert lo["name"] == "box room" and lo["windows"] == ["glazing"] and "no floor" in lo["reason"]
+    assert rep["summary"]["spaces_with_windows_not_assessed"] == 1

@@ -88,8 +88,8 @@ def _triangles(loops: list[np.ndarray]) -> list[np.ndarray]:
 
 
 def _footprint(shell_tris: np.ndarray):
-    """(outer ring (k, 2), holes, z0, z1) of a shell's floor: the faces not steeper than 60 deg with
-    no face of the shell under them (a ray down from just under their centroid crosses nothing: the
+    """(outer ring (k, 2), holes, z0, z1) of a shell's floor: the faces not steeper than 60 deg, in the
+    lower half of the shell's height, with no face of the shell under them (a ray down from just under their centroid crosses nothing: the
     bottom of the volume, for a closed shell exactly, and for one whose walls or ceiling are drawn
     short, as Revit 2025 writes some, still), projected and unioned, at their lowest point (a raked
     floor's lowest point; a stepped floor's lowest step)."""
@@ -100,7 +100,11 @@ def _footprint(shell_tris: np.ndarray):
     z1 = float(shell_tris[..., 2].max())
     n = np.cross(shell_tris[:, 1] - shell_tris[:, 0], shell_tris[:, 2] - shell_tris[:, 0])
     norm = np.linalg.norm(n, axis=1)
-    gentle = (np.abs(n[:, 2]) > 0.5 * norm) & (norm > 0)
+    zc = shell_tris[..., 2].mean(axis=1)
+    lo, hi = float(shell_tris[..., 2].min()), z1
+    # a floor lies in the lower half of the volume: a roof with nothing of the shell under it (a space
+    # drawn without its floor) is its top, not its floor
+    gentle = (np.abs(n[:, 2]) > 0.5 * norm) & (norm > 0) & (zc <= lo + 0.5 * (hi - lo) + 1e-9)
     below = shell_tris[gentle].mean(axis=1) - [0.0, 0.0, 0.01]
     flat = np.zeros(len(shell_tris), dtype=bool)
     flat[np.flatnonzero(gentle)] = crossings(below, shell_tris, -UP) == 0
@@ -278,8 +282,9 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
 
 
 def _spaces(doc: Document, floors, bodies, verdict) -> tuple[list[Space], list[str]]:
-    """:class:`Space` of each gbXML space with a floor (``floors``: :func:`_floor_of`; ``bodies``:
-    the closed shell, or None where the space has none); the names of those without one."""
+    """:class:`Space` of each gbXML space (``floors``: :func:`_floor_of`; ``bodies``: the closed
+    shell, or None where the space has none), those without a floor with their ``problem`` (the
+    scene lists them as left out, with their windows: never a silent pass); the names of those."""
     hints: dict = {}
     for oid, (kind, where) in verdict.items():
         if kind == "exterior" and where >= 0:
@@ -290,12 +295,16 @@ def _spaces(doc: Document, floors, bodies, verdict) -> tuple[list[Space], list[s
         seen[s.name] = seen.get(s.name, 0) + 1
     for i, s in enumerate(doc.spaces):
         fp = floors[i]
-        if fp is None:
-            no_floor.append(s.name)
-            continue
-        ring, holes, z0, z1 = fp
         # a Name shared by several spaces: the room is "Name (id)" (room_name's 'LongName (Name)')
         name, long_name = (s.id, s.name) if seen[s.name] > 1 else (s.name, "")
+        if fp is None:  # kept, with its problem: a space with windows and no floor is never silently gone
+            no_floor.append(s.name)
+            out.append(Space(id=s.id, name=name, long_name=long_name, storey=doc.storeys.get(s.storey, ""),
+                             footprint=np.zeros((0, 2)), floor_z=0.0, top_z=0.0, windows=tuple(sorted(hints.get(i, ()))),
+                             zones=tuple(z for z in (doc.zones.get(s.zone),) if z), kind=SPACE_KIND, body=bodies[i],
+                             problem="no floor in its ShellGeometry, PlanarGeometry or floor surfaces"))
+            continue
+        ring, holes, z0, z1 = fp
         out.append(Space(id=s.id, name=name, long_name=long_name, storey=doc.storeys.get(s.storey, ""), footprint=ring,
                          floor_z=z0, top_z=z1, windows=tuple(sorted(hints.get(i, ()))),
                          zones=tuple(z for z in (doc.zones.get(s.zone),) if z), holes=holes, kind=SPACE_KIND,
