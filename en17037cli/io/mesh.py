@@ -30,6 +30,8 @@ PART_KEYS = {
     "parent": "CityJSON parent object type (a BuildingPart's Building); IFC aggregate's class",
     "colour": "DXF ACI colour number",
     "space": "gbXML: the Name of the space a surface bounds",
+    "slope": "CityJSON / CityGML: 'steep' on the steep sides of a ground-type object that rise above the ground "
+             "(layer landscape; io/cityjson/relief.py)",
 }
 
 #: Layers a reader may propose for a part (the project's rules decide; see scene/layers.py).
