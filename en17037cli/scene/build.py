@@ -84,6 +84,7 @@ def build_scene(project: Project) -> Scene:
     scene = Scene(vertices=local, triangles=g.triangles, layer=g.layer, obstructs_sun=g.obstructs_sun, parts=g.parts,
                   part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings], file_hashes=g.file_hashes,
                   sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read, windows_left_out=g.windows_left_out,
+                  context=g.context,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     scene.warnings.extend(check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where))
     for spec in project.rooms:
@@ -103,4 +104,8 @@ def build_scene(project: Project) -> Scene:
                          "rooms[] entries matching one space); give each room its own name")
     for i, room in enumerate(scene.rooms):  # indices in the scene's order: ray groups and reports follow it
         room.index = i
+    if scene.context:
+        from en17037cli.scene.context import context_warnings
+
+        scene.warnings.extend(context_warnings(scene, project.model.files, where))
     return scene
