@@ -13,12 +13,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from citygml_files import NS2, city_model, multi_surface
 
 from en17037cli.geometry import triangle_normals
 from en17037cli.io.cityjson import read_cityjson
 from en17037cli.io.cityjson.relief import RISE_M
-
-from citygml_files import NS2, city_model, multi_surface
 
 pytest.importorskip("lxml")
 
