@@ -310,9 +310,8 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
         for w in room.windows:
             bounding.add(w.name)
             n = ", ".join(f"{round(c, 4) + 0.0:.4f}" for c in w.normal)  # + 0.0: no "-0.0000"
-            click.echo(f"  window '{w.name}': {w.area_m2:.3f} m², outward normal ({n}), "
-                       f"{bearing_label(w.normal, scene.true_north_deg)}, {len(w.face_ids)} faces; "
-                       f"bounds the room: {room.window_reasons[w.name]}")
+            click.echo(f"  window '{w.name}': {w.area_m2:.3f} m², outward normal ({n}), {len(w.face_ids)} faces; "
+                       f"bounds the room: {room.window_reasons[w.name]}; {bearing_label(w.normal, scene.true_north_deg)}")
         for crit, rooms in pf.unassessable.items():
             if room.name in rooms:
                 click.echo(f"  {crit}: NOT ASSESSABLE: {rooms[room.name]}")

@@ -143,18 +143,25 @@ def _through_rooms(scene: Scene, faces: np.ndarray, where: str, key: str, displa
     """One warning per city object with faces inside a room (at most :data:`MAX_NAMED`, then one for the rest)."""
     import shapely
 
+    rooms = [r for r in scene.rooms if not r.problem and not r.floor.is_empty]
+    if not rooms:
+        return []
+    bounds = np.array([r.floor.bounds for r in rooms])  # the rooms' box: a tile's far faces go at once
+    z = scene.vertices[scene.triangles[faces], 2]
+    xy = scene.vertices[scene.triangles[faces], :2]
+    near = ((z.max(axis=1) > min(r.floor_z for r in rooms)) & (z.min(axis=1) < max(_top(r) for r in rooms))
+            & (xy[..., 0].max(axis=1) > bounds[:, 0].min()) & (xy[..., 0].min(axis=1) < bounds[:, 2].max())
+            & (xy[..., 1].max(axis=1) > bounds[:, 1].min()) & (xy[..., 1].min(axis=1) < bounds[:, 3].max()))
+    faces = faces[near]
     tri = scene.vertices[scene.triangles[faces]]  # (m, 3, 3) local
     zlo, zhi = tri[..., 2].min(axis=1), tri[..., 2].max(axis=1)
     xlo, xhi = tri[..., :2].min(axis=1), tri[..., :2].max(axis=1)
     hits: dict = {}  # object part index -> {room name: (lowest, highest) [m above its floor]}
-    for room in scene.rooms:  # a few rooms
-        if room.problem or room.floor.is_empty:
-            continue
+    for room in rooms:  # a few rooms
         inner = room.floor.buffer(-INSIDE_MARGIN_M)
         if inner.is_empty:
             continue
-        top = room.ceiling_z if np.isfinite(room.ceiling_z) else room.floor_z + 4.0
-        z0, z1 = room.floor_z + INSIDE_MARGIN_M, top - INSIDE_MARGIN_M
+        z0, z1 = room.floor_z + INSIDE_MARGIN_M, _top(room) - INSIDE_MARGIN_M
         bx0, by0, bx1, by1 = inner.bounds
         cand = np.flatnonzero((zhi > z0) & (zlo < z1) & (xhi[:, 0] > bx0) & (xlo[:, 0] < bx1)
                               & (xhi[:, 1] > by0) & (xlo[:, 1] < by1))
@@ -199,6 +206,11 @@ def _through_rooms(scene: Scene, faces: np.ndarray, where: str, key: str, displa
         out.append(f"{where}: {key} ({display}): {len(rest)} more city object(s) run through rooms; to leave every one out: "
                    f"{key}.exclude: [{', '.join(repr(o) for o in by_obj)}]")
     return out
+
+
+def _top(room) -> float:
+    """A room's ceiling [m, local]; 4 m over its floor where it has none."""
+    return room.ceiling_z if np.isfinite(room.ceiling_z) else room.floor_z + 4.0
 
 
 def clip_to_slab(tri: np.ndarray, z0: float, z1: float) -> tuple[np.ndarray, np.ndarray]:
