@@ -89,6 +89,27 @@ def test_a_tools_default_site_is_warned_and_the_location_printed(tmp_path, lat, 
     assert code == 0 and "probably the tool's default" not in out
 
 
+def test_the_report_says_where_the_location_came_from(tmp_path):
+    """A location from the model: a note to confirm it (report.json notes, report.md), and
+    inputs.resolved with its source; a tool's default: the warning instead."""
+    out = tmp_path / "o"
+    r = CliRunner().invoke(cli, ["check", str(project(tmp_path, house(tmp_path / "house.ifc"))), "--out", str(out), "-q",
+                                 "--no-plots"])
+    assert r.exit_code in (0, 1), r.output
+    report = json.loads((out / "report.json").read_text())
+    note = ("location 52.0116 N, 4.3571 E taken from house.ifc: latitude and longitude from IfcSite RefLatitude/RefLongitude: "
+            "confirm it is the building's site (or give location.latitude and location.longitude)")
+    assert note in report["notes"] and note in (out / "report.md").read_text()
+    assert report["inputs"]["resolved"]["location.latitude"]["value"] == pytest.approx(52.0116, abs=1e-9)
+    assert not [w for w in report["warnings"] if "location" in w]
+    (tmp_path / "d").mkdir()
+    ifc = edited_house(tmp_path / "d", (24, 28, 0), (54, 25, 0))
+    r = CliRunner().invoke(cli, ["check", str(project(tmp_path / "d", ifc)), "--out", str(tmp_path / "o2"), "-q", "--no-plots"])
+    report = json.loads((tmp_path / "o2" / "report.json").read_text())
+    assert [w for w in report["warnings"] if "probably the tool's default: ArchiCAD's default site" in w]
+    assert not [n for n in report["notes"] if n.startswith("location")]
+
+
 def test_a_site_near_a_default_is_not_it():
     """Within 0.001 deg (about 100 m) of a listed site is that site; the sample house's Delft, or
     a place 1 km from ArchiCAD's default, is not."""

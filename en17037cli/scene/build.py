@@ -47,7 +47,8 @@ def build_scene(project: Project) -> Scene:
         g.notes.append(f"{len(dropped)} glazing faces of glass modelled as thin solids (inner faces, rims) left out: "
                        "each pane keeps its outer face")
     north, north_src, site_warnings = resolve_north(project, g)
-    location, resolved, loc_warnings = resolve_location(project, g, where)
+    location, resolved, loc_warnings, loc_notes = resolve_location(project, g, where)
+    g.notes.extend(loc_notes)
     if north_src:
         resolved["model.true_north_deg"] = north_src
     scene = Scene(vertices=local, triangles=g.triangles, layer=g.layer, obstructs_sun=g.obstructs_sun, parts=g.parts,

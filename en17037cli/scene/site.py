@@ -89,13 +89,14 @@ def resolve_north(project: Project, g: Geometry) -> tuple[float, dict | None, li
     return 0.0, None, warnings
 
 
-def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Location | None, dict, list[str]]:
+def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Location | None, dict, list[str], list[str]]:
     """The project's location with a latitude or longitude it leaves out taken from a model file
-    that says where it stands (not the null site); warnings where that is a tool's default site."""
+    that says where it stands (not the null site), what came from where, and what to say of it: a
+    warning where that is a tool's default site, else a note (confirm it)."""
     loc = project.location
     out: dict = {}
     if loc is None or (loc.latitude is not None and loc.longitude is not None):
-        return loc, out, []
+        return loc, out, [], []
     null = [display for display, s, _ in g.sites if is_null_site(s.latitude, s.longitude)]
     site, display = next(((s, d) for d, s, _ in g.sites if s.latitude is not None and s.longitude is not None
                           and not is_null_site(s.latitude, s.longitude)), (None, None))
@@ -109,13 +110,24 @@ def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Locatio
     for key, value, given in (("latitude", lat, loc.latitude), ("longitude", lon, loc.longitude)):
         if given is None:
             out[f"location.{key}"] = {"value": value, "source": site.source}
-    warnings = []
+    warnings, notes = [], []  # a warning where the site is a tool's default, else a note: confirm it
     what = default_site(site.latitude, site.longitude)
     if what is not None:
         warnings.append(f"{where}: location {format_location(site.latitude, site.longitude)} taken from {display} is "
                         f"probably the tool's default: {what}, not the building's site; confirm it, or give "
                         "location.latitude and location.longitude")
-    return replace(loc, latitude=lat, longitude=lon), out, warnings
+    else:
+        notes.append(f"location {format_location(lat, lon)} taken from {location_source(site.source)}: confirm it is the "
+                     "building's site (or give location.latitude and location.longitude)")
+    return replace(loc, latitude=lat, longitude=lon), out, warnings, notes
+
+
+def location_source(source: str) -> str:
+    """A site's source (``'house.ifc: latitude and longitude from IfcSite ...; true north from ...'``)
+    without what it says of north."""
+    head, _, rest = source.partition(": ")
+    kept = [c for c in rest.split("; ") if "latitude" in c]
+    return f"{head}: {'; '.join(kept)}" if kept else source
 
 
 def format_location(lat: float, lon: float) -> str:
@@ -155,7 +167,7 @@ def location_lines(project: Project, scene) -> list[str]:
     loc = scene.location
     out = []
     if loc is not None and loc.latitude is not None and loc.longitude is not None:
-        src = [v["source"] for k, v in scene.resolved.items() if k.startswith("location.")]
+        src = [location_source(v["source"]) for k, v in scene.resolved.items() if k.startswith("location.")]
         from_ = (f"from {src[0]}: confirm it is the building's site" if src else "given by the project")
         out.append(f"location: {format_location(loc.latitude, loc.longitude)}, {loc.timezone}, {from_}")
     north = scene.resolved.get("model.true_north_deg")
