@@ -292,6 +292,10 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
     click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in scene.layer_counts().items()))
     for display, line in scene.read:  # what each reader read and left out
         click.echo(f"read {display}: {line}")
+    from en17037cli.scene.site import bearing_label, location_lines
+
+    for line in location_lines(project, scene):  # where the run takes the site and north from
+        click.echo(line)
     if pf.points:
         click.echo(f"estimated cost: {pf.points:,} viewpoints, {pf.cells:,.0f} sampling cells (budget {max_points or MAX_POINTS:,} viewpoints)")
     bounding = set()
@@ -310,7 +314,7 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
             bounding.add(w.name)
             n = ", ".join(f"{round(c, 4) + 0.0:.4f}" for c in w.normal)  # + 0.0: no "-0.0000"
             click.echo(f"  window '{w.name}': {w.area_m2:.3f} m², outward normal ({n}), {len(w.face_ids)} faces; "
-                       f"bounds the room: {room.window_reasons[w.name]}")
+                       f"bounds the room: {room.window_reasons[w.name]}; {bearing_label(w.normal, scene.true_north_deg)}")
         for crit, rooms in pf.unassessable.items():
             if room.name in rooms:
                 click.echo(f"  {crit}: NOT ASSESSABLE: {rooms[room.name]}")

@@ -30,6 +30,8 @@ PART_KEYS = {
     "parent": "CityJSON parent object type (a BuildingPart's Building); IFC aggregate's class",
     "colour": "DXF ACI colour number",
     "space": "gbXML: the Name of the space a surface bounds",
+    "slope": "CityJSON / CityGML: 'steep' on the steep sides of a ground-type object that rise above the ground "
+             "(layer landscape; io/cityjson/relief.py)",
 }
 
 #: Layers a reader may propose for a part (the project's rules decide; see scene/layers.py).
@@ -123,6 +125,8 @@ class Site:
     source : str, one line saying where the values came from (for the report)
     reprojected_from : str, the CRS the file's coordinates were in where the reader projected them
         to ``crs`` (CityGML to the project's CRS), else None
+    north_warning : str, what is odd about the file's north and how the reader took it (a TrueNorth
+        that is not a horizontal direction), else None; warned where the run takes the file's north
     """
 
     latitude: float | None = None
@@ -132,6 +136,7 @@ class Site:
     crs: str | None = None
     source: str = ""
     reprojected_from: str | None = None
+    north_warning: str | None = None
 
 
 @dataclass

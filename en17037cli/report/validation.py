@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 from en17037cli.report.numbers import json_number
+from en17037cli.scene.site import compass_bearing, location_lines
 
 
 def validation_document(project_file, project, scene, pf, budget: int) -> dict:
-    """The scene as ``check`` will see it: faces per layer, what each file's reader read, the
-    estimated cost, each room's floor, ceiling and windows (with why each bounds it) and the
+    """The scene as ``check`` will see it: faces per layer, what each file's reader read, the site
+    and north taken and where from, the estimated cost, each room's floor, ceiling and windows
+    (with why each bounds it and the compass bearing each faces, clockwise from true north) and the
     criteria that cannot assess it, windows in no room, dwellings, warnings and notes.
 
     Heights are in the model's frame [m]; areas [m²].
@@ -22,7 +24,9 @@ def validation_document(project_file, project, scene, pf, budget: int) -> dict:
                 "floor_source": room.floor_source, "ceiling_z_m": json_number(room.ceiling_z + z0, 3),
                 "ceiling_source": room.ceiling_source,
                 "windows": [{"name": w.name, "area_m2": json_number(w.area_m2, 3),
-                             "outward_normal": [json_number(c, 4) for c in w.normal], "faces": len(w.face_ids),
+                             "outward_normal": [json_number(c, 4) for c in w.normal],
+                             "bearing_deg": bearing_number(compass_bearing(w.normal, scene.true_north_deg)),
+                             "faces": len(w.face_ids),
                              "reason": room.window_reasons.get(w.name)} for w in room.windows]})
         entry["not_assessable"] = {crit: rooms_[room.name] for crit, rooms_ in pf.unassessable.items() if room.name in rooms_}
         rooms.append(entry)
@@ -30,6 +34,7 @@ def validation_document(project_file, project, scene, pf, budget: int) -> dict:
         "project": str(project_file), "valid": True,
         "faces_per_layer": scene.layer_counts(),
         "read": [{"file": display, "summary": line} for display, line in getattr(scene, "read", [])],
+        "site": location_lines(project, scene),
         "estimated_cost": {"viewpoints": int(pf.points), "sampling_cells": json_number(pf.cells, 0), "budget_viewpoints": budget},
         "rooms": rooms,
         "spaces_left_out": [str(getattr(s, "name", s)) for s in scene.left_out],
@@ -39,3 +44,8 @@ def validation_document(project_file, project, scene, pf, budget: int) -> dict:
         "warnings": list(pf.warnings), "notes": list(scene.notes),
     }
     return doc
+
+
+def bearing_number(b: float | None):
+    """A compass bearing [deg] to 0.1 deg in [0, 360) (359.96 is 0.0), None for a roof light."""
+    return None if b is None else json_number(round(b, 1) % 360.0, 1)

@@ -3,56 +3,25 @@
 Data flow: read each model file, scale it to metres, turn y-up files to z-up, place it, assign
 every face a layer, drop degenerate faces (:mod:`~en17037cli.scene.load`), shift everything to a
 local origin (float64), find the windows (:mod:`~en17037cli.scene.windows`), take true north and
-the location from the model where the project leaves them out, and make each room's floor and
-windows (:mod:`~en17037cli.scene.rooms`; rooms from IfcSpaces with :mod:`~en17037cli.scene.spaces`).
-Engines receive a Scene and never read files.
+the location from the model where the project leaves them out (:mod:`~en17037cli.scene.site`,
+which checks them), make each room's floor and windows (:mod:`~en17037cli.scene.rooms`; rooms
+from IfcSpaces with :mod:`~en17037cli.scene.spaces`) and check the city models against the rooms
+(:mod:`~en17037cli.scene.context`). Engines receive a Scene and never read files.
 """
 from __future__ import annotations
-
-from dataclasses import replace
 
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.project.settings import Location, Project
+from en17037cli.project.settings import Project
 from en17037cli.scene.load import load_geometry
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry, Scene
 from en17037cli.scene.openings import join_openings
 from en17037cli.scene.quarantine import quarantine_windows
 from en17037cli.scene.rooms import check_shared_floors, make_room
+from en17037cli.scene.site import resolve_location, resolve_north
 from en17037cli.scene.spaces import rooms_from_spaces
 from en17037cli.scene.windows import check_glazing_over_opaque, find_windows
-
-
-def resolve_north(project: Project, g: Geometry) -> tuple[float, dict | None]:
-    """True north [deg clockwise from +Y]: the project's, else the first model file's own (its
-    TrueNorth turned with the file's rotation), else 0."""
-    if project.model.true_north_deg is not None:
-        return project.model.true_north_deg, None
-    for _display, site, rotate_deg in g.sites:
-        if site.true_north_deg is not None:
-            north = (site.true_north_deg - rotate_deg) % 360.0
-            return north, {"value": round(north, 6), "source": site.source + (f", turned by the file's transform ({rotate_deg:g} deg)"
-                                                                             if rotate_deg else "")}
-    return 0.0, None
-
-
-def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Location | None, dict]:
-    """The project's location with a latitude or longitude it leaves out taken from the model's IfcSite."""
-    loc = project.location
-    out: dict = {}
-    if loc is None or (loc.latitude is not None and loc.longitude is not None):
-        return loc, out
-    site = next((s for _, s, _ in g.sites if s.latitude is not None and s.longitude is not None), None)
-    if site is None:
-        raise InputError(f"{where}: location.latitude: not given, and no model file says where it stands (an IfcSite's "
-                         "RefLatitude, a gbXML Campus/Location); give location.latitude and location.longitude")
-    lat = loc.latitude if loc.latitude is not None else site.latitude
-    lon = loc.longitude if loc.longitude is not None else site.longitude
-    for key, value, given in (("latitude", lat, loc.latitude), ("longitude", lon, loc.longitude)):
-        if given is None:
-            out[f"location.{key}"] = {"value": value, "source": site.source}
-    return replace(loc, latitude=lat, longitude=lon), out
 
 
 def building_centre(g: Geometry) -> np.ndarray:
@@ -79,13 +48,16 @@ def build_scene(project: Project) -> Scene:
     if len(dropped):
         g.notes.append(f"{len(dropped)} glazing faces of glass modelled as thin solids (inner faces, rims) left out: "
                        "each pane keeps its outer face")
-    north, north_src = resolve_north(project, g)
-    location, resolved = resolve_location(project, g, where)
+    north, north_src, site_warnings = resolve_north(project, g)
+    location, resolved, loc_warnings, loc_notes = resolve_location(project, g, where)
+    g.notes.extend(loc_notes)
     if north_src:
         resolved["model.true_north_deg"] = north_src
     scene = Scene(vertices=local, triangles=g.triangles, layer=g.layer, obstructs_sun=g.obstructs_sun, parts=g.parts,
-                  part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings], file_hashes=g.file_hashes,
+                  part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings, *site_warnings, *loc_warnings],
+                  file_hashes=g.file_hashes,
                   sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read, windows_left_out=g.windows_left_out,
+                  context=g.context,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     partly, hidden = check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where)
     scene.warnings.extend(partly)
@@ -108,4 +80,8 @@ def build_scene(project: Project) -> Scene:
     scene.notes.extend(join_openings(scene))  # one window per opening, whatever the format
     for i, room in enumerate(scene.rooms):  # indices in the scene's order: ray groups and reports follow it
         room.index = i
+    if scene.context:
+        from en17037cli.scene.context import context_warnings
+
+        scene.warnings.extend(context_warnings(scene, project.model.files, where))
     return scene

@@ -142,6 +142,8 @@ class Geometry:
     optics : (m, 2) float visible reflectance and transmittance a layer rule gives each face (NaN
         where none does: the daylight criterion's defaults apply), or None when no rule gives any
     windows_left_out : (file, window label, why) of windows the files define that give no glazing
+    context : (index in model.files, file, first part, end part) of each city model (CityJSON,
+        CityGML): its parts are ``parts[first:end]``
     """
 
     vertices: np.ndarray
@@ -159,6 +161,7 @@ class Geometry:
     read: list = field(default_factory=list)  # (file, one line of what its reader read and left out), for validate
     #: (file, window label, why) of windows the files define that give no glazing (Mesh.windows_left_out)
     windows_left_out: list = field(default_factory=list)
+    context: list = field(default_factory=list)  # (model.files index, file, first part, end part) of city models
 
 
 @dataclass(kw_only=True)

@@ -9,7 +9,8 @@ files where it differs (a CRS in degrees always is).
 
 Parts and layers are those of the CityJSON reader (one table for both,
 :mod:`~en17037cli.io.cityjson.semantics`): one :class:`~en17037cli.io.mesh.Part` per (city
-object, thematic surface type), ``Part.attrs``: `class` (``Building``, ``BuildingPart``,
+object, thematic surface type; the steep sides of ground-type objects on landscape parts of their
+own, :mod:`~en17037cli.io.cityjson.relief`), ``Part.attrs``: `class` (``Building``, ``BuildingPart``,
 ``TINRelief``...), `id` (the object's ``gml:id``, usable in layer rules and ``exclude``),
 `parent` (the enclosing object's class), `surface` (``WallSurface``, ``RoofSurface``, ``Window``...)
 and `attr.<name>` (text-only properties such as ``bldg:function`` and generic attributes).
@@ -34,6 +35,7 @@ from en17037cli.errors import InputError
 from en17037cli.io import ReadOptions, register
 from en17037cli.io.citygml.crs import CrsResolver
 from en17037cli.io.citygml.walk import Walk, local, walk_member
+from en17037cli.io.cityjson.relief import steep_sides
 from en17037cli.io.cityjson.semantics import choose_lod, counted, default_layer, lod_label, parse_lod_request
 from en17037cli.io.cityjson.triangulate import triangulate_surfaces
 from en17037cli.io.mesh import Mesh, Part, Site
@@ -166,6 +168,7 @@ class _Collector:
                             "(self-intersecting or degenerate); their remaining area was dropped")
         order = np.argsort(surf, kind="stable")
         tris, part = tris[order], np.array(self.s_part, dtype=np.int64)[surf[order]]
+        part, self.parts = steep_sides(vertices, tris, part, self.parts, name, notes)
         used = np.zeros(len(vertices), dtype=bool)
         used[tris.ravel()] = True
         vmap = np.cumsum(used) - 1

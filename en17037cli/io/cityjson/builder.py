@@ -10,7 +10,8 @@ MultiLineString carry no surfaces and are left out by the caller. Surfaces becom
 
 Parts: one :class:`~en17037cli.io.mesh.Part` per (CityObject, semantic surface type) with its
 default layer (:func:`~en17037cli.io.cityjson.semantics.default_layer`); the semantic surface of
-each face comes from the geometry's ``semantics`` (§3.3). Geometries whose ``semantics.values``
+each face comes from the geometry's ``semantics`` (§3.3). The steep sides of ground-type objects
+then get landscape parts of their own (:mod:`~en17037cli.io.cityjson.relief`). Geometries whose ``semantics.values``
 do not match their surfaces lose their semantics (counted warning).
 
 ``ReadOptions.near = ((x, y), r)`` leaves out, before triangulation, each object whose vertex
@@ -25,6 +26,7 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.io.cityjson.documents import SOLID_TYPES, SURFACE_DEPTH
+from en17037cli.io.cityjson.relief import steep_sides
 from en17037cli.io.cityjson.semantics import counted, default_layer
 from en17037cli.io.cityjson.triangulate import triangulate_surfaces
 from en17037cli.io.mesh import Part
@@ -243,6 +245,7 @@ class Builder:
         s_part = np.array(self.s_part, dtype=np.int64)
         order = np.argsort(tri_surf, kind="stable")
         tris, part = tris[order], s_part[tri_surf[order]]
+        part, self.parts = steep_sides(vertices, tris, part, self.parts, name, notes)
         # keep only what the triangles use: vertices in file order, parts in file order
         used = np.zeros(len(vertices), dtype=bool)
         used[tris.ravel()] = True

@@ -34,6 +34,10 @@ override any of it (matching ``class``, ``surface``, ``id``, ``attr.*``).
 
 (1) Never seen from outside; as landscape, the checked building's rooms would fill the checked room.
 
+The steep faces of a ``ground`` object that rise more than 0.5 m above its base (a LoD1 block of
+PlantCover, a wall along a LandUse) go to ``landscape`` with ``slope: steep``
+(:mod:`~en17037cli.io.cityjson.relief`).
+
 Other semantic surfaces keep their object's layer: a context building's ``Window`` and ``Door``
 surfaces are landscape (the ``window`` layer is the checked room's glazing, from its own model).
 
