@@ -1,0 +1,176 @@
+"""The annual method: the DGP of every usage hour at each view, from daylight coefficients with the
+sun apart (an enhanced simplified DGP, Wienold 2009, whose image is replaced by rays: the imageless
+idea of Jones 2019).
+
+For a view (eye, direction f) and a usage hour h with sky S (gendaymtx -s, patches), sun S_s
+(gendaymtx -d, spread into its patches) and the sun's direct normal illuminance E_n:
+
+* E_v = DC · (S + S_s) - DC_d · S_s + E_n τ(θ) cos(sun, f) [seen]: DC the eye's daylight
+  coefficients (rcontrib -I, every bounce), DC_d their direct part (the sky and ground seen from
+  the eye through the glazing, from the rays below) and the last term the sun's disc itself, seen
+  or not as clause 5.3 sees it (:meth:`~en17037cli.criteria.sunlight.visibility.SunVisibility.
+  seen_along` from the eye, the SPA sun at the hour's middle) through glass of transmittance τ at
+  its angle of incidence (:func:`~.dgp.glass_transmission`) — the five-phase split of the daylight
+  criterion, with the sun exact;
+* glare sources: the directions of an even set of rays from the eye (``view_rays`` over the
+  sphere, 4 π / n sr each) that see the sky or the ground hemisphere through the glazing, with
+  luminance 179 T_i S[patch_i] (T_i the panes' transmission, rcontrib -ab 0), and the sun's disc,
+  E_n τ / ω_sun over ω_sun = 6.8e-5 sr; each brighter than ``source_threshold_cd_m2`` adds
+  L² ω / P² with P its position index (:func:`~.dgp.position_index`). Sunlit surfaces and the
+  landscape are not sources (they count in E_v).
+
+The sum over the rays is found without an hours x rays matrix: the rays of a patch, sorted by T,
+with the running sum of T² / P², answer "which rays of patch b exceed the threshold in hour h" by a
+binary search (:meth:`ViewModel.glare_sum`). A shading device is a neutral filter of transmittance
+t: E_v and every luminance scale by t, the sources found again.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import cast
+
+import numpy as np
+
+from en17037cli.criteria.glare import engine
+from en17037cli.criteria.glare.dgp import SUN_SOLID_ANGLE_SR, dgp, glass_transmission, position_index, reinhart_bin
+from en17037cli.criteria.glare.usage import UsageHours, usage_hours
+
+#: Luminous efficacy of Radiance's radiance units [lm/W].
+K = 179.0
+
+
+@dataclass
+class Climate:
+    """The usage hours of a run and their sky: sky (bins, h) and sun (bins, h) radiance [W sr⁻¹ m⁻²],
+    the sun's direct normal illuminance e_n (h,) [lx], its direction (h, 3) in the model frame and
+    whether it is above the horizon (h,)."""
+
+    usage: UsageHours
+    sky: np.ndarray
+    sun: np.ndarray
+    e_n: np.ndarray
+    sun_dir: np.ndarray
+    sun_up: np.ndarray
+
+
+class _Air:
+    """The refraction settings of the sun's position (the sunlight section's where present)."""
+
+    pressure_mbar, temperature_c, refraction = 1013.25, 12.0, True
+
+
+def climate(weather, location, settings, north_deg: float, sunlight=None) -> Climate:
+    """The usage hours of ``weather`` (see :mod:`.usage`) with their skies and sun."""
+    from en17037cli.criteria.sunlight.solar_position import direction_vectors
+    from en17037cli.criteria.sunlight.visibility import SunPath
+    from en17037cli.weather.epw import wea_text
+
+    s = settings
+    use = usage_hours(weather.month, weather.day, weather.hour, weather.tz_hours, location.timezone, s.year,
+                      s.usage_start_h, s.usage_end_h, s.usage_days)
+    wea = wea_text(weather)
+    g = dict(s.reflectance)["ground"]
+    sky = engine.sky_matrix(wea, s.sky_subdivision, north_deg, g, "sky")[:, use.rows]
+    sun = engine.sky_matrix(wea, s.sky_subdivision, north_deg, g, "sun")[:, use.rows]
+    e_n = K * engine.reinhart_solid_angles(s.sky_subdivision) @ sun  # the sun's energy, kept by the spreading
+    path = SunPath(location, cast(object, sunlight or _Air()))  # type: ignore[arg-type]
+    elev, azim = path(use.unix_mid)
+    return Climate(use, sky, sun, e_n, direction_vectors(elev, azim, north_deg), (elev > 0) & (e_n > 0))
+
+
+@dataclass
+class EyeRays:
+    """The rays from one eye that see the sky or the ground hemisphere through the glazing:
+    directions (n, 3), transmission T (n,), the sky bin each sees (gendaymtx's row; 0 the ground)
+    and the solid angle each stands for [sr]."""
+
+    dirs: np.ndarray
+    t: np.ndarray
+    bin: np.ndarray
+    omega: float
+
+
+def eye_rays(octrees, octree: str, eye, n: int, mf: int, north_deg: float) -> EyeRays:
+    """The :class:`EyeRays` of an eye from ``n`` directions over the sphere."""
+    from en17037cli.criteria.glare.dgp import sphere_directions
+
+    d = sphere_directions(n)
+    t_sky, t_ground = engine.view_transmission(octrees, octree, eye, d)
+    seen = (t_sky > 0) | (t_ground > 0)
+    a = np.radians(north_deg)  # model frame -> the sky's frame (north at +y): turn by the true north
+    rot = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
+    b = np.where(t_ground[seen] > 0, 0, reinhart_bin(d[seen] @ rot.T, mf))
+    return EyeRays(d[seen], (t_sky + t_ground)[seen], b, 4.0 * np.pi / n)
+
+
+def sun_through_glazing(engine_, scene, room, eye, clim: Climate, window_tn: np.ndarray) -> np.ndarray:
+    """The share of the sun's direct normal light reaching the eye each usage hour: 0 where the
+    sun is not seen from the eye (clause 5.3's visibility: through a window of the room, no face
+    that blocks the sun on the way), else the glass's transmission at its angle of incidence on the
+    window it is seen through (the first window, in the room's order, whose plane it crosses).
+
+    Returns
+    -------
+    (h,) float in [0, 1)
+    """
+    from en17037cli.criteria.sunlight.visibility import SunVisibility
+    from en17037cli.scene.model import room_window_group
+
+    d = clim.sun_dir
+    out = np.zeros(len(d))
+    done = ~clim.sun_up
+    for w, tn in zip(room.windows, window_tn):  # a few windows per room, each vectorised over the hours
+        vis = SunVisibility(engine_, np.asarray(eye)[None, :], np.asarray(w.normal)[None, :], room_window_group(room),
+                            None, None, scene.true_north_deg)  # type: ignore[arg-type]
+        seen = vis.seen_along(d, ~done)
+        out[seen] = np.where(tn >= 1.0, 1.0, glass_transmission(tn, d[seen] @ np.asarray(w.normal)))
+        done |= seen
+    return out
+
+
+class ViewModel:
+    """Everything the DGP of one view needs, hour by hour (see the module docstring).
+
+    ev : (replicates, h) vertical illuminance at the eye [lx]; l_sun, p_sun : (h,) the sun's
+    luminance through the glazing [cd/m²] (0 where not in view) and its position index
+    """
+
+    def __init__(self, rays: EyeRays, dc: np.ndarray, view_dir, clim: Climate, sun_share: np.ndarray, threshold: float,
+                 low_light: bool):
+        f = np.asarray(view_dir, dtype=float)
+        cos = rays.dirs @ f
+        front = cos > 1e-9
+        t, b, d = rays.t[front], rays.bin[front], rays.dirs[front]
+        p = position_index(d, f)
+        order = np.lexsort((t, b))
+        self.t, self.bin = t[order], b[order]
+        self.key = self.bin + 0.5 * self.t
+        self.cum = np.concatenate([[0.0], np.cumsum(self.t**2 / p[order] ** 2)])
+        nb = clim.sky.shape[0]
+        self.end = np.searchsorted(self.bin, np.arange(nb), side="right")
+        self.omega, self.sky, self.threshold, self.low_light = rays.omega, clim.sky, threshold, low_light
+        dc_direct = K * np.bincount(b, weights=t * cos[front] * rays.omega, minlength=nb)
+        cos_sun = clim.sun_dir @ f
+        self.in_view = (sun_share > 0) & (cos_sun > 0)
+        e_sun = clim.e_n * sun_share * np.maximum(cos_sun, 0.0) * self.in_view
+        self.ev = dc @ (clim.sky + clim.sun) - dc_direct @ clim.sun + e_sun  # (replicates, h)
+        self.ev = np.maximum(self.ev, 0.0)
+        self.l_sun = np.where(self.in_view, clim.e_n * sun_share / SUN_SOLID_ANGLE_SR, 0.0)
+        self.p_sun = np.where(self.in_view, np.nan_to_num(position_index(clim.sun_dir, f), nan=1.0), 1.0)
+
+    def glare_sum(self, hours: np.ndarray, scale: float = 1.0) -> np.ndarray:
+        """Σ L² ω / P² over the sources in ``hours`` (indices) with every luminance times ``scale``."""
+        s = K * scale * self.sky[:, hours]  # (bins, k) luminance per unit transmission
+        with np.errstate(divide="ignore"):
+            need = np.where(s > 0, self.threshold / np.where(s > 0, s, 1.0), np.inf)  # T a ray needs to be a source
+        q = np.arange(len(s))[:, None] + 0.5 * np.minimum(need, 1.0)
+        pos = np.minimum(np.searchsorted(self.key, q, side="right"), self.end[:, None])
+        sky_sum = ((s**2) * (self.cum[self.end][:, None] - self.cum[pos])).sum(axis=0) * self.omega
+        ls = self.l_sun[hours] * scale
+        sun_sum = np.where(ls > self.threshold, ls**2 * SUN_SOLID_ANGLE_SR / self.p_sun[hours] ** 2, 0.0)
+        return sky_sum + sun_sum
+
+    def dgp(self, hours: np.ndarray | None = None, scale: float = 1.0) -> np.ndarray:
+        """(replicates, k) DGP of ``hours`` (default all) under a neutral filter ``scale``."""
+        hours = np.arange(self.ev.shape[1]) if hours is None else hours
+        return dgp(self.ev[:, hours] * scale, self.glare_sum(hours, scale)[None, :], self.low_light)
