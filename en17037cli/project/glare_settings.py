@@ -24,12 +24,15 @@ class Shading:
     """A movable shading device over the glazing (``glare.shading``), read as a neutral filter.
 
     transmittance : visible transmittance of the device for light through the glazing, in (0, 1]
+    sun_transmittance : the share of the sun's disc seen through it (its normal-normal
+        transmittance, EN 14501's tau_v,n-n), default ``transmittance``
     control : ``glare`` (deployed in the usage hours whose unshaded DGP exceeds the required
         level's limit) or ``always`` (deployed in every usage hour)
     """
 
     transmittance: float
     control: str = "glare"
+    sun_transmittance: float | None = None
 
 
 @dataclass(frozen=True)
@@ -138,7 +141,8 @@ def glare_settings(d: dict, directory: Path, daylight: dict | None = None) -> Gl
     pos = d.get("positions", "auto")
     positions = None if pos == "auto" else np.array([[p["x"], p["y"], p["z"], p["direction_deg"]] for p in pos], dtype=float)
     sh = d.get("shading", "none")
-    shading = None if sh == "none" else Shading(float(sh["transmittance"]), sh.get("control", "glare"))
+    shading = None if sh == "none" else Shading(float(sh["transmittance"]), sh.get("control", "glare"),
+                                                None if "sun_transmittance" not in sh else float(sh["sun_transmittance"]))
     refl = {**REFLECTANCE_DEFAULTS, **((daylight or {}).get("reflectance") or {}), **(d.get("reflectance") or {})}
     tv = d.get("glazing_transmittance", (daylight or {}).get("glazing_transmittance", GLAZING_TV_DEFAULT))
     u, rp, rf = d["usage"], d["radiance"], d["reference"]

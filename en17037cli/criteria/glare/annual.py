@@ -22,7 +22,8 @@ For a view (eye, direction f) and a usage hour h with sky S (gendaymtx -s, patch
 The sum over the rays is found without an hours x rays matrix: the rays of a patch, sorted by T,
 with the running sum of T² / P², answer "which rays of patch b exceed the threshold in hour h" by a
 binary search (:meth:`ViewModel.glare_sum`). A shading device is a neutral filter of transmittance
-t: E_v and every luminance scale by t, the sources found again.
+t: E_v and every luminance scale by t (the sun's disc by the device's own ``sun_transmittance``,
+its normal-normal transmittance), the sources found again.
 """
 from __future__ import annotations
 
@@ -152,25 +153,28 @@ class ViewModel:
         dc_direct = K * np.bincount(b, weights=t * cos[front] * rays.omega, minlength=nb)
         cos_sun = clim.sun_dir @ f
         self.in_view = (sun_share > 0) & (cos_sun > 0)
-        e_sun = clim.e_n * sun_share * np.maximum(cos_sun, 0.0) * self.in_view
-        self.ev = dc @ (clim.sky + clim.sun) - dc_direct @ clim.sun + e_sun  # (replicates, h)
-        self.ev = np.maximum(self.ev, 0.0)
+        self.e_sun = clim.e_n * sun_share * np.maximum(cos_sun, 0.0) * self.in_view  # the sun's disc alone
+        self.ev = np.maximum(dc @ (clim.sky + clim.sun) - dc_direct @ clim.sun, 0.0) + self.e_sun  # (replicates, h)
         self.l_sun = np.where(self.in_view, clim.e_n * sun_share / SUN_SOLID_ANGLE_SR, 0.0)
         self.p_sun = np.where(self.in_view, np.nan_to_num(position_index(clim.sun_dir, f), nan=1.0), 1.0)
 
-    def glare_sum(self, hours: np.ndarray, scale: float = 1.0) -> np.ndarray:
-        """Σ L² ω / P² over the sources in ``hours`` (indices) with every luminance times ``scale``."""
+    def glare_sum(self, hours: np.ndarray, scale: float = 1.0, sun_scale: float | None = None) -> np.ndarray:
+        """Σ L² ω / P² over the sources in ``hours`` (indices) with every luminance times ``scale``, the
+        sun's disc times ``sun_scale`` (default ``scale``)."""
         s = K * scale * self.sky[:, hours]  # (bins, k) luminance per unit transmission
         with np.errstate(divide="ignore"):
             need = np.where(s > 0, self.threshold / np.where(s > 0, s, 1.0), np.inf)  # T a ray needs to be a source
         q = np.arange(len(s))[:, None] + 0.5 * np.minimum(need, 1.0)
         pos = np.minimum(np.searchsorted(self.key, q, side="right"), self.end[:, None])
         sky_sum = ((s**2) * (self.cum[self.end][:, None] - self.cum[pos])).sum(axis=0) * self.omega
-        ls = self.l_sun[hours] * scale
+        ls = self.l_sun[hours] * (scale if sun_scale is None else sun_scale)
         sun_sum = np.where(ls > self.threshold, ls**2 * SUN_SOLID_ANGLE_SR / self.p_sun[hours] ** 2, 0.0)
         return sky_sum + sun_sum
 
-    def dgp(self, hours: np.ndarray | None = None, scale: float = 1.0) -> np.ndarray:
-        """(replicates, k) DGP of ``hours`` (default all) under a neutral filter ``scale``."""
+    def dgp(self, hours: np.ndarray | None = None, scale: float = 1.0, sun_scale: float | None = None) -> np.ndarray:
+        """(replicates, k) DGP of ``hours`` (default all) behind a device that passes ``scale`` of the
+        light and ``sun_scale`` (default ``scale``) of the sun's disc seen through it."""
         hours = np.arange(self.ev.shape[1]) if hours is None else hours
-        return dgp(self.ev[:, hours] * scale, self.glare_sum(hours, scale)[None, :], self.low_light)
+        ss = scale if sun_scale is None else sun_scale
+        ev = (self.ev[:, hours] - self.e_sun[hours]) * scale + self.e_sun[hours] * ss
+        return dgp(ev, self.glare_sum(hours, scale, ss)[None, :], self.low_light)

@@ -38,14 +38,16 @@ def series(model: ViewModel, shading, limit: float) -> tuple[np.ndarray, np.ndar
     out = raw.copy()
     hours = np.flatnonzero(down)
     if len(hours):
-        out[:, hours] = model.dgp(hours, shading.transmittance)
+        out[:, hours] = model.dgp(hours, shading.transmittance, shading.sun_transmittance)
     return out, raw, down
 
 
-def needed_transmittance(models: list[ViewModel], limit: float) -> float | None:
+def needed_transmittance(models: list[ViewModel], limit: float, sun_hidden: bool = False) -> float | None:
     """The largest of :data:`TRANSMITTANCES` at which every view keeps its DGP at or below ``limit``
-    in all but 5 % of the usage hours with the device down when the unshaded DGP exceeds it; None
-    where even the smallest does not (the room needs more than a shade: a smaller or other window)."""
+    in all but 5 % of the usage hours with the device down when the unshaded DGP exceeds it: a
+    neutral filter (the sun's disc seen through it dimmed alike), or with ``sun_hidden`` a device
+    through which the sun's disc is not seen (normal-normal transmittance 0: a blind cut off, a
+    fabric without openness); None where even the smallest does not."""
     glare = []
     for m in models:  # the unshaded series and its hours over the limit, once
         raw = m.dgp().mean(axis=0)
@@ -55,7 +57,7 @@ def needed_transmittance(models: list[ViewModel], limit: float) -> float | None:
         for m, raw, hours in glare:
             s = raw.copy()
             if len(hours):
-                s[hours] = m.dgp(hours, t).mean(axis=0)
+                s[hours] = m.dgp(hours, t, 0.0 if sun_hidden else None).mean(axis=0)
             ok &= bool(standard.dgp_exceeded(s) <= limit)
         if ok:
             return t
@@ -119,11 +121,16 @@ def assess_room(criterion, ctx, room, views, required: str) -> GlareResult:
         need = standard.level_index(required) if required != "none" else 0
         if res.level < need:
             res.transmittance_needed = needed_transmittance(models, limits[required])
+            res.transmittance_needed_sun_hidden = needed_transmittance(models, limits[required], sun_hidden=True)
             res.transmittance_tried = TRANSMITTANCES
         t1 = time.perf_counter()
         if s.reference.hours > 0:
             res.reference = reference_check(criterion, ctx, room, res.views[res.worst], clim, s, required)
         res.reference_s = time.perf_counter() - t1
+        if res.reference:  # the level the annual series gives moved by the reference's mean difference
+            bias = float(np.mean([h.dgp_evalglare - h.dgp_fast for h in res.reference]))
+            res.level_reference = min(int(standard.glare_level(standard.dgp_exceeded(np.clip(v.dgp + bias, 0, 1)), limits))
+                                      for v in res.views)
         mc = max(v.dgp_5pct_err for v in res.views)
         ref = max((abs(h.dgp_fast - h.dgp_evalglare) for h in res.reference), default=0.0)
         res.error_dgp = float(np.hypot(mc, ref))

@@ -51,6 +51,7 @@ def glare_section(scene: Scene, res: GlareResult, required: str, settings: Glare
                             "weather": settings.weather_display, "usage_hours": res.usage_hours,
                             "dgp_limits": limits, "exceedance": standard.GLARE_EXCEEDANCE},
                  "shading": None if settings.shading is None else {"transmittance": settings.shading.transmittance,
+                                                                    "sun_transmittance": settings.shading.sun_transmittance,
                                                                     "control": settings.shading.control}}
     if res.unassessable:
         out["reason"] = res.unassessable
@@ -74,6 +75,7 @@ def glare_section(scene: Scene, res: GlareResult, required: str, settings: Glare
             "score": glare_score(w.dgp_5pct, limits), "near_threshold": res.near_threshold,
             "usage_hours": res.usage_hours, "sun_in_view_hours": res.sun_in_view_hours,
             "transmittance_needed": json_number(res.transmittance_needed, 4),
+            "transmittance_needed_sun_hidden": json_number(res.transmittance_needed_sun_hidden, 4),
             "transmittance_tried": list(res.transmittance_tried),
             "error_estimates": {"dgp_error": json_number(res.error_dgp, 4),
                                 "monte_carlo_dgp_error": json_number(max(v.dgp_5pct_err for v in res.views), 4),
@@ -91,6 +93,23 @@ def glare_section(scene: Scene, res: GlareResult, required: str, settings: Glare
     return out
 
 
+def with_sunlight(glare: dict, sunlight: dict) -> dict:
+    """The glare section with ``with_sunlight``: sunlight (5.3) and glare (5.4) read together, where a
+    room has results of both (Brembilla et al. 2021: a room that reaches sunlight needs the shading
+    5.4 asks for): the sunlight hours on 5.3's assessed day beside the usage hours with the sun in
+    view at a critical position, and whether the room passes 5.3 and fails 5.4."""
+    if glare.get("status") not in ("pass", "fail") or sunlight.get("status") not in ("pass", "fail") or "limiting" not in glare:
+        return glare
+    fails = sunlight["status"] == "pass" and glare["status"] == "fail"
+    return glare | {"with_sunlight": {"sunlight_level": sunlight["level"], "sunlight_hours_h": sunlight["hours_h"],
+                                      "sunlight_assessed_date": sunlight["assessed_date"],
+                                      "sun_in_view_hours": glare["sun_in_view_hours"], "usage_hours": glare["usage_hours"],
+                                      "passes_sunlight_fails_glare": fails,
+                                      "transmittance_needed": glare["transmittance_needed"] if fails else None,
+                                      "transmittance_needed_sun_hidden":
+                                          glare["transmittance_needed_sun_hidden"] if fails else None}}
+
+
 def reference_section(res: GlareResult, limits: dict[str, float]) -> dict:
     """The reference check in report.json: each hour's DGP and E_v both ways and the level each gives,
     the largest and mean difference, and the time it took."""
@@ -101,7 +120,8 @@ def reference_section(res: GlareResult, limits: dict[str, float]) -> dict:
     d = np.array([h.dgp_fast - h.dgp_evalglare for h in res.reference])
     return {"hours": hours, "max_abs_dgp_difference": json_number(np.abs(d).max() if len(d) else None, 4),
             "mean_dgp_difference": json_number(d.mean() if len(d) else None, 4),
-            "classes_agree": sum(h["class_fast"] == h["class_evalglare"] for h in hours), "time_s": round(res.reference_s, 1)}
+            "classes_agree": sum(h["class_fast"] == h["class_evalglare"] for h in hours), "time_s": round(res.reference_s, 1),
+            "level_with_mean_difference": None if res.level_reference is None else LEVELS[res.level_reference]}
 
 
 def glare_points_csv(report: dict) -> str:

@@ -69,8 +69,9 @@ class GlareResult:
     worst : index of the view with the highest DGP exceeded in 5 % of the hours
     usage_local : (h,) datetime64[m] start of each usage hour on the local clock
     reference : the reference check's hours at the worst view
-    transmittance_needed : the largest shading transmittance (control: glare) at which the room
-        reaches its required level, None where it already does or none of the tried ones does
+    transmittance_needed : the largest shading transmittance (control: glare, a neutral filter) at
+        which the room reaches its required level, None where it already does or none tried does
+    transmittance_needed_sun_hidden : the same for a device through which the sun's disc is not seen
     """
 
     views: list[ViewResult]
@@ -82,7 +83,9 @@ class GlareResult:
     moments: list[MomentResult] = field(default_factory=list)
     reference: list[ReferenceHour] = field(default_factory=list)
     reference_s: float = 0.0
+    level_reference: int | None = None  # the level with every hour's DGP moved by the reference's mean difference
     transmittance_needed: float | None = None
+    transmittance_needed_sun_hidden: float | None = None
     transmittance_tried: tuple[float, ...] = ()
     sun_in_view_hours: int = 0
     notes: list[str] = field(default_factory=list)
