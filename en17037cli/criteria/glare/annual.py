@@ -33,7 +33,16 @@ from typing import cast
 import numpy as np
 
 from en17037cli.criteria.glare import engine
-from en17037cli.criteria.glare.dgp import SUN_SOLID_ANGLE_SR, dgp, glass_transmission, position_index, reinhart_bin
+from en17037cli.criteria.glare.dgp import (
+    MAX_POSITION_INDEX as MAX_P,
+)
+from en17037cli.criteria.glare.dgp import (
+    SUN_SOLID_ANGLE_SR,
+    dgp,
+    glass_transmission,
+    position_index,
+    reinhart_bin,
+)
 from en17037cli.criteria.glare.usage import UsageHours, usage_hours
 
 #: Luminous efficacy of Radiance's radiance units [lm/W].
@@ -82,17 +91,20 @@ def climate(weather, location, settings, north_deg: float, sunlight=None) -> Cli
 @dataclass
 class EyeRays:
     """The rays from one eye that see the sky or the ground hemisphere through the glazing:
-    directions (n, 3), transmission T (n,), the sky bin each sees (gendaymtx's row; 0 the ground)
-    and the solid angle each stands for [sr]."""
+    directions (n, 3), transmission T (n,), the sky bin each sees (gendaymtx's row; 0 the ground),
+    the solid angle each stands for [sr] and the window of the room each leaves through (its index;
+    the number of windows where none)."""
 
     dirs: np.ndarray
     t: np.ndarray
     bin: np.ndarray
     omega: float
+    window: np.ndarray | None = None
 
 
-def eye_rays(octrees, octree: str, eye, n: int, mf: int, north_deg: float) -> EyeRays:
-    """The :class:`EyeRays` of an eye from ``n`` directions over the sphere."""
+def eye_rays(octrees, octree: str, eye, n: int, mf: int, north_deg: float, windows=None) -> EyeRays:
+    """The :class:`EyeRays` of an eye from ``n`` directions over the sphere; ``windows``: (ray
+    engine, the room) to find the window each ray leaves through, else every ray is one opening's."""
     from en17037cli.criteria.glare.dgp import sphere_directions
 
     d = sphere_directions(n)
@@ -101,7 +113,17 @@ def eye_rays(octrees, octree: str, eye, n: int, mf: int, north_deg: float) -> Ey
     a = np.radians(north_deg)  # model frame -> the sky's frame (north at +y): turn by the true north
     rot = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
     b = np.where(t_ground[seen] > 0, 0, reinhart_bin(d[seen] @ rot.T, mf))
-    return EyeRays(d[seen], (t_sky + t_ground)[seen], b, 4.0 * np.pi / n)
+    win = np.zeros(int(seen.sum()), dtype=int)
+    if windows is not None:
+        from en17037cli.scene.model import room_window_group
+
+        eng, room = windows
+        face, _ = eng.first_hit(room_window_group(room), np.broadcast_to(np.asarray(eye, float), (len(win), 3)), d[seen])
+        lookup = np.full(int(np.concatenate([w.face_ids for w in room.windows]).max()) + 2, len(room.windows))
+        for k, w in enumerate(room.windows):  # a few windows
+            lookup[w.face_ids] = k
+        win = lookup[np.where(face >= 0, face, len(lookup) - 1)]  # no window of the room: the last group
+    return EyeRays(d[seen], (t_sky + t_ground)[seen], b, 4.0 * np.pi / n, win)
 
 
 def sun_through_glazing(engine_, scene, room, eye, clim: Climate, window_tn: np.ndarray) -> np.ndarray:
@@ -132,25 +154,44 @@ def sun_through_glazing(engine_, scene, room, eye, clim: Climate, window_tn: np.
 class ViewModel:
     """Everything the DGP of one view needs, hour by hour (see the module docstring).
 
-    ev : (replicates, h) vertical illuminance at the eye [lx]; l_sun, p_sun : (h,) the sun's
-    luminance through the glazing [cd/m²] (0 where not in view) and its position index
+    ev : (replicates, h) vertical illuminance at the eye [lx]; e_sun : (h,) the sun's disc's part of
+    it; l_sun, p_sun : (h,) the sun's luminance through the glazing [cd/m²] (0 where not in view)
+    and its position index
+
+    The rays of one opening brighter than the threshold are one glare source, as evalglare merges
+    neighbouring pixels: their mean luminance, their solid angle, the position index at their
+    centroid in the fisheye's (angular) picture plane, where evalglare takes it. The rays are sorted
+    by (opening, sky bin, T); running sums of ω, T ω and the picture coordinates give, for each
+    opening, bin and hour, the sums over the rays above the threshold by one binary search.
     """
 
     def __init__(self, rays: EyeRays, dc: np.ndarray, view_dir, clim: Climate, sun_share: np.ndarray, threshold: float,
                  low_light: bool):
+        from en17037cli.criteria.glare.dgp import view_frame
+
         f = np.asarray(view_dir, dtype=float)
         cos = rays.dirs @ f
         front = cos > 1e-9
         t, b, d = rays.t[front], rays.bin[front], rays.dirs[front]
-        p = position_index(d, f)
-        order = np.lexsort((t, b))
-        self.t, self.bin = t[order], b[order]
-        self.key = self.bin + 0.5 * self.t
-        self.cum = np.concatenate([[0.0], np.cumsum(self.t**2 / p[order] ** 2)])
+        g = np.zeros(len(t), dtype=int) if rays.window is None else rays.window[front]
         nb = clim.sky.shape[0]
-        self.end = np.searchsorted(self.bin, np.arange(nb), side="right")
-        self.omega, self.sky, self.threshold, self.low_light = rays.omega, clim.sky, threshold, low_light
-        dc_direct = K * np.bincount(b, weights=t * cos[front] * rays.omega, minlength=nb)
+        self.groups = int(g.max()) + 1 if len(g) else 1
+        cell = g * nb + b
+        order = np.lexsort((t, cell))
+        self.t, self.cell = t[order], cell[order]
+        self.key = self.cell + 0.5 * self.t
+        _, r, u = view_frame(f)
+        th = np.arccos(np.clip(cos[front], -1.0, 1.0))
+        k = np.where(th > 1e-9, th / np.maximum(np.sin(th), 1e-12), 1.0)  # the angular fisheye's radius is the angle
+        a, c = (d @ r) * k, (d @ u) * k
+        w = rays.omega
+        # running sums, in sorted order, of ω, T ω, a ω, c ω (a leading 0)
+        self.cums = np.vstack([np.zeros((1, 4)), np.cumsum(np.column_stack([np.full(len(t), w), t * w, a * w, c * w])[order],
+                                                             axis=0)])
+        self.end = np.searchsorted(self.cell, np.arange(self.groups * nb), side="right")
+        self.f, self.frame = f, (r, u)
+        self.omega, self.sky, self.threshold, self.low_light = w, clim.sky, threshold, low_light
+        dc_direct = K * np.bincount(b, weights=t * cos[front] * w, minlength=nb)
         cos_sun = clim.sun_dir @ f
         self.in_view = (sun_share > 0) & (cos_sun > 0)
         self.e_sun = clim.e_n * sun_share * np.maximum(cos_sun, 0.0) * self.in_view  # the sun's disc alone
@@ -160,13 +201,26 @@ class ViewModel:
 
     def glare_sum(self, hours: np.ndarray, scale: float = 1.0, sun_scale: float | None = None) -> np.ndarray:
         """Σ L² ω / P² over the sources in ``hours`` (indices) with every luminance times ``scale``, the
-        sun's disc times ``sun_scale`` (default ``scale``)."""
+        sun's disc times ``sun_scale`` (default ``scale``): each opening's rays above the threshold one
+        source (see the class docstring), the sun's disc another."""
+        nb = self.sky.shape[0]
         s = K * scale * self.sky[:, hours]  # (bins, k) luminance per unit transmission
         with np.errstate(divide="ignore"):
             need = np.where(s > 0, self.threshold / np.where(s > 0, s, 1.0), np.inf)  # T a ray needs to be a source
-        q = np.arange(len(s))[:, None] + 0.5 * np.minimum(need, 1.0)
+        cells = np.arange(self.groups * nb)
+        q = cells[:, None] + 0.5 * np.minimum(np.tile(need, (self.groups, 1)), 1.0)
         pos = np.minimum(np.searchsorted(self.key, q, side="right"), self.end[:, None])
-        sky_sum = ((s**2) * (self.cum[self.end][:, None] - self.cum[pos])).sum(axis=0) * self.omega
+        part = self.cums[self.end][:, None, :] - self.cums[pos]  # (cells, k, 4): ω, T ω, a ω, c ω above the threshold
+        part[..., 1] *= np.tile(s, (self.groups, 1))  # T ω -> L ω
+        src = part.reshape(self.groups, nb, len(hours), 4).sum(axis=1)  # (groups, k, 4) per opening
+        om, lum = src[..., 0], src[..., 1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            a, c = src[..., 2] / om, src[..., 3] / om
+            rad = np.hypot(a, c)
+            direction = (np.cos(rad)[..., None] * self.f + (np.sin(rad) / np.where(rad > 0, rad, 1.0))[..., None]
+                         * (a[..., None] * self.frame[0] + c[..., None] * self.frame[1]))
+            p = np.nan_to_num(position_index(direction.reshape(-1, 3), self.f), nan=MAX_P).reshape(om.shape)
+            sky_sum = np.where(om > 0, lum**2 / np.where(om > 0, om, 1.0) / p**2, 0.0).sum(axis=0)
         ls = self.l_sun[hours] * (scale if sun_scale is None else sun_scale)
         sun_sum = np.where(ls > self.threshold, ls**2 * SUN_SOLID_ANGLE_SR / self.p_sun[hours] ** 2, 0.0)
         return sky_sum + sun_sum

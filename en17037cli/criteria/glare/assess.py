@@ -71,7 +71,8 @@ def annual_views(ctx, settings, room, views, clim: Climate, octrees, octree: str
         eyes.setdefault(v.position, v.eye)
     rays, share = {}, {}
     for k, eye in eyes.items():  # a few eyes per room
-        rays[k] = eye_rays(octrees, octree, eye, settings.view_rays, settings.sky_subdivision, ctx.scene.true_north_deg)
+        rays[k] = eye_rays(octrees, octree, eye, settings.view_rays, settings.sky_subdivision, ctx.scene.true_north_deg,
+                           (ctx.engine, room))
         share[k] = sun_through_glazing(ctx.engine, ctx.scene, room, eye, clim, window_tn)
     r = settings.radiance
     dc = engine.eye_coefficients(octrees, octree, np.array([v.eye for v in views]), np.array([v.direction for v in views]),
