@@ -178,3 +178,27 @@ def test_vertical_illuminance_under_cie_overcast_closed_form(empty_octrees):
         c = _reinhart_centres(mf)
         sky = np.concatenate([[rho * 7 * lz / 9], lz * cie_overcast_luminance(np.arcsin(c[:, 2]))]) / 179.0
         assert (dc[:, 0, :] @ sky).mean() == pytest.approx(exact, rel=tol)
+
+
+@pytest.mark.parametrize("north", [0.0, 40.0, -115.0])
+def test_skies_turn_to_the_models_north_as_the_spa_sun(north):
+    """The model's true north ``north`` deg clockwise from +y: the patch gendaymtx -d puts the sun in
+    (-r), gendaylit's sun turned by xform, and the NREL SPA's sun in the model frame agree."""
+    from en17037cli.criteria.glare import engine
+    from en17037cli.criteria.sunlight.solar_position import direction_vectors, solar_position
+    from en17037cli.project.glare_settings import GLAZING_TV_DEFAULT  # noqa: F401  (the settings module imports alone)
+
+    # 21 March 2026 at 10:30 and 2 July at 15:30 local standard time (UTC+1), Delft
+    wea = ("place test\nlatitude 52.0\nlongitude -4.36\ntime_zone -15\nsite_elevation 0.0\nweather_data_file_units 1\n"
+           "3 21 10.500 600.0 100.0\n7 2 15.500 500.0 150.0\n")
+    sun = engine.sky_matrix(wea, 2, north, 0.2, "sun")
+    unix = np.array([np.datetime64("2026-03-21T09:30"), np.datetime64("2026-07-02T14:30")]).astype("datetime64[s]").astype(float)
+    elev, azim = solar_position(unix, 52.0, 4.36)
+    spa = direction_vectors(elev, azim, north)
+    assert np.array_equal(np.argmax(sun, axis=0), reinhart_bin(spa, 2))  # the sun's patch (MF 2: 5 deg wide)
+    for k, (mo, d, h) in enumerate(((3, 21, 10.5), (7, 2, 15.5))):
+        text = engine.sky_text("gendaylit", mo, d, h, 52.0, 4.36, 15.0, north, 0.2, 600.0, 100.0).split()
+        i = text.index("source")
+        sun_dir = np.array([float(x) for x in text[i + 5:i + 8]])  # solar source sun 0 0 4 dx dy dz 0.533
+        # gendaylit's own solar position (Radiance's sun.c: an approximate solar time) is 0.74 deg off the SPA here
+        assert np.degrees(np.arccos(np.clip(sun_dir @ spa[k], -1, 1))) < 1.0

@@ -52,7 +52,7 @@ class GlareReference:
     worst view, rendered at ``resolution_px`` square with ``-ab -ad -aa -ar``."""
 
     hours: int = 3
-    resolution_px: int = 200
+    resolution_px: int = 400
     ab: int = 2
     ad: int = 256
     aa: float = 0.25

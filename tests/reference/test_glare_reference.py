@@ -137,7 +137,7 @@ def test_black_room_window_of_known_luminance_evalglare_matches_the_annual_path(
         v = np.array(view) / np.linalg.norm(view)
         pic = engine.fisheye(o, oc_sky, eye, v, 400, 0, 64, 0.1, 64, "f.hdr")
         ref, ref_ev = engine.evalglare(pic)
-        rays = eye_rays(o, oc_patch, eye, 100000, 1, 0.0)
+        rays = eye_rays(o, oc_patch, [eye], 100000, 1)[0]
         dc = engine.eye_coefficients(o, oc_patch, np.array([eye]), v[None, :], 1, 1, 8192, 1e-5, 2)
         m = ViewModel(rays, dc[:, 0], v, clim, np.zeros(1), 2000.0, False)
         # E_v: 2 % (the coefficients' Monte Carlo at -ad 8192 and the picture's pixels); DGP: 0.01, a source counted
@@ -161,3 +161,24 @@ def test_sun_normal_illuminance_of_the_sky_matrix_is_gendaylits_sun(tmp_path):
         radiance_sun = float(text[text.index("light") + 5])  # void light solar 0 0 3 R G B
         assert e_n[k] == pytest.approx(179.0 * radiance_sun * SUN_SOLID_ANGLE_SR, rel=0.01)
     assert engine.reinhart_solid_angles(1).sum() == pytest.approx(4 * math.pi)
+
+
+def test_direct_coefficients_of_the_rays_are_rcontribs():
+    """The eye's direct daylight coefficients the annual method takes from its rays (the sky and ground
+    each ray sees, binned by the ray's direction in the model frame) against rcontrib -I -ab 1 in the
+    black room, bin by bin: the sky patch each ray lands in is the one rcontrib bins it in."""
+    from en17037cli.criteria.glare.annual import eye_rays
+
+    o = engine.Octrees(black_room())
+    oc = o.with_sky(engine.PATCH_SKY)
+    eye, view = np.array([0.5, 3.0, 1.2]), np.array([0.0, 1.0, 0.0])
+    rays = eye_rays(o, oc, [eye], 200000, 1)[0]
+    front = rays.dirs @ view > 0
+    mine = 179.0 * np.bincount(rays.bin[front], weights=rays.t[front] * (rays.dirs[front] @ view) * rays.omega, minlength=146)
+    dc = engine.eye_coefficients(o, oc, eye[None], view[None], 1, 1, 65536, 1e-6, 2).mean(axis=0)[0]
+    o.close()
+    seen = dc > 0.05 * dc.max()
+    assert seen.sum() >= 4 and np.array_equal(np.flatnonzero(seen), np.flatnonzero(mine > 0.05 * dc.max()))
+    # each patch's share: the rays' 200,000 directions against rcontrib's 65,536 samples (about 1 % each)
+    assert mine[seen] == pytest.approx(dc[seen], rel=0.05)
+    assert mine.sum() == pytest.approx(dc.sum(), rel=0.01)

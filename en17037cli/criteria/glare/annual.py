@@ -102,28 +102,33 @@ class EyeRays:
     window: np.ndarray | None = None
 
 
-def eye_rays(octrees, octree: str, eye, n: int, mf: int, north_deg: float, windows=None) -> EyeRays:
-    """The :class:`EyeRays` of an eye from ``n`` directions over the sphere; ``windows``: (ray
-    engine, the room) to find the window each ray leaves through, else every ray is one opening's."""
+def eye_rays(octrees, octree: str, eyes, n: int, mf: int, windows=None) -> list[EyeRays]:
+    """The :class:`EyeRays` of each eye (k, 3) from ``n`` directions over the sphere, all traced in one
+    rcontrib call (the octree read once); ``windows``: (ray engine, the room) to find the window each
+    ray leaves through, else every ray is one opening's."""
     from en17037cli.criteria.glare.dgp import sphere_directions
 
+    eyes = np.asarray(eyes, dtype=float).reshape(-1, 3)
     d = sphere_directions(n)
-    t_sky, t_ground = engine.view_transmission(octrees, octree, eye, d)
-    seen = (t_sky > 0) | (t_ground > 0)
-    a = np.radians(north_deg)  # model frame -> the sky's frame (north at +y): turn by the true north
-    rot = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
-    b = np.where(t_ground[seen] > 0, 0, reinhart_bin(d[seen] @ rot.T, mf))
-    win = np.zeros(int(seen.sum()), dtype=int)
-    if windows is not None:
-        from en17037cli.scene.model import room_window_group
+    t_sky, t_ground = engine.view_transmission(octrees, octree, np.repeat(eyes, n, axis=0), np.tile(d, (len(eyes), 1)))
+    bins = reinhart_bin(d, mf)  # in the model frame, as rcontrib bins: gendaymtx -r turns the sky onto them
+    out = []
+    for k, eye in enumerate(eyes):  # a few eyes per room
+        ts, tg = t_sky[k * n:(k + 1) * n], t_ground[k * n:(k + 1) * n]
+        seen = (ts > 0) | (tg > 0)
+        b = np.where(tg[seen] > 0, 0, bins[seen])
+        win = np.zeros(int(seen.sum()), dtype=int)
+        if windows is not None and len(win):
+            from en17037cli.scene.model import room_window_group
 
-        eng, room = windows
-        face, _ = eng.first_hit(room_window_group(room), np.broadcast_to(np.asarray(eye, float), (len(win), 3)), d[seen])
-        lookup = np.full(int(np.concatenate([w.face_ids for w in room.windows]).max()) + 2, len(room.windows))
-        for k, w in enumerate(room.windows):  # a few windows
-            lookup[w.face_ids] = k
-        win = lookup[np.where(face >= 0, face, len(lookup) - 1)]  # no window of the room: the last group
-    return EyeRays(d[seen], (t_sky + t_ground)[seen], b, 4.0 * np.pi / n, win)
+            eng, room = windows
+            face, _ = eng.first_hit(room_window_group(room), np.broadcast_to(eye, (len(win), 3)), d[seen])
+            lookup = np.full(int(np.concatenate([w.face_ids for w in room.windows]).max()) + 2, len(room.windows))
+            for j, w in enumerate(room.windows):  # a few windows
+                lookup[w.face_ids] = j
+            win = lookup[np.where(face >= 0, face, len(lookup) - 1)]  # no window of the room: the last group
+        out.append(EyeRays(d[seen], (ts + tg)[seen], b, 4.0 * np.pi / n, win))
+    return out
 
 
 def sun_through_glazing(engine_, scene, room, eye, clim: Climate, window_tn: np.ndarray) -> np.ndarray:
@@ -188,7 +193,12 @@ class ViewModel:
         # running sums, in sorted order, of ω, T ω, a ω, c ω (a leading 0)
         self.cums = np.vstack([np.zeros((1, 4)), np.cumsum(np.column_stack([np.full(len(t), w), t * w, a * w, c * w])[order],
                                                              axis=0)])
-        self.end = np.searchsorted(self.cell, np.arange(self.groups * nb), side="right")
+        # the (opening, bin) cells that hold rays, in sorted order, and where each ends; openings contiguous
+        self.cells, first = np.unique(self.cell, return_index=True)
+        self.end = np.append(first[1:], len(self.cell))
+        self.cell_bin = self.cells % nb
+        group = self.cells // nb
+        self.group_start = np.flatnonzero(np.concatenate([[True], group[1:] != group[:-1]])) if len(group) else group
         self.f, self.frame = f, (r, u)
         self.omega, self.sky, self.threshold, self.low_light = w, clim.sky, threshold, low_light
         dc_direct = K * np.bincount(b, weights=t * cos[front] * w, minlength=nb)
@@ -203,24 +213,24 @@ class ViewModel:
         """Σ L² ω / P² over the sources in ``hours`` (indices) with every luminance times ``scale``, the
         sun's disc times ``sun_scale`` (default ``scale``): each opening's rays above the threshold one
         source (see the class docstring), the sun's disc another."""
-        nb = self.sky.shape[0]
-        s = K * scale * self.sky[:, hours]  # (bins, k) luminance per unit transmission
-        with np.errstate(divide="ignore"):
-            need = np.where(s > 0, self.threshold / np.where(s > 0, s, 1.0), np.inf)  # T a ray needs to be a source
-        cells = np.arange(self.groups * nb)
-        q = cells[:, None] + 0.5 * np.minimum(np.tile(need, (self.groups, 1)), 1.0)
-        pos = np.minimum(np.searchsorted(self.key, q, side="right"), self.end[:, None])
-        part = self.cums[self.end][:, None, :] - self.cums[pos]  # (cells, k, 4): ω, T ω, a ω, c ω above the threshold
-        part[..., 1] *= np.tile(s, (self.groups, 1))  # T ω -> L ω
-        src = part.reshape(self.groups, nb, len(hours), 4).sum(axis=1)  # (groups, k, 4) per opening
-        om, lum = src[..., 0], src[..., 1]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            a, c = src[..., 2] / om, src[..., 3] / om
-            rad = np.hypot(a, c)
-            direction = (np.cos(rad)[..., None] * self.f + (np.sin(rad) / np.where(rad > 0, rad, 1.0))[..., None]
-                         * (a[..., None] * self.frame[0] + c[..., None] * self.frame[1]))
-            p = np.nan_to_num(position_index(direction.reshape(-1, 3), self.f), nan=MAX_P).reshape(om.shape)
-            sky_sum = np.where(om > 0, lum**2 / np.where(om > 0, om, 1.0) / p**2, 0.0).sum(axis=0)
+        sky_sum = np.zeros(len(hours))
+        if len(self.cells):
+            s = K * scale * self.sky[self.cell_bin][:, hours]  # (cells, k) luminance per unit transmission
+            with np.errstate(divide="ignore"):
+                need = np.where(s > 0, self.threshold / np.where(s > 0, s, 1.0), np.inf)  # T a ray needs to be a source
+            pos = np.minimum(np.searchsorted(self.key, self.cells[:, None] + 0.5 * np.minimum(need, 1.0), side="right"),
+                             self.end[:, None])
+            part = self.cums[self.end][:, None, :] - self.cums[pos]  # (cells, k, 4): ω, T ω, a ω, c ω above the threshold
+            part[..., 1] *= s  # T ω -> L ω
+            src = np.add.reduceat(part, self.group_start, axis=0)  # (openings, k, 4)
+            om, lum = src[..., 0], src[..., 1]
+            with np.errstate(invalid="ignore", divide="ignore"):
+                a, c = src[..., 2] / om, src[..., 3] / om
+                rad = np.hypot(a, c)
+                direction = (np.cos(rad)[..., None] * self.f + (np.sin(rad) / np.where(rad > 0, rad, 1.0))[..., None]
+                             * (a[..., None] * self.frame[0] + c[..., None] * self.frame[1]))
+                p = np.nan_to_num(position_index(direction.reshape(-1, 3), self.f), nan=MAX_P).reshape(om.shape)
+                sky_sum = np.where(om > 0, lum**2 / np.where(om > 0, om, 1.0) / p**2, 0.0).sum(axis=0)
         ls = self.l_sun[hours] * (scale if sun_scale is None else sun_scale)
         sun_sum = np.where(ls > self.threshold, ls**2 * SUN_SOLID_ANGLE_SR / self.p_sun[hours] ** 2, 0.0)
         return sky_sum + sun_sum

@@ -69,11 +69,10 @@ def annual_views(ctx, settings, room, views, clim: Climate, octrees, octree: str
     eyes = {}
     for v in views:
         eyes.setdefault(v.position, v.eye)
-    rays, share = {}, {}
-    for k, eye in eyes.items():  # a few eyes per room
-        rays[k] = eye_rays(octrees, octree, eye, settings.view_rays, settings.sky_subdivision, ctx.scene.true_north_deg,
-                           (ctx.engine, room))
-        share[k] = sun_through_glazing(ctx.engine, ctx.scene, room, eye, clim, window_tn)
+    traced = eye_rays(octrees, octree, np.array(list(eyes.values())), settings.view_rays, settings.sky_subdivision,
+                      (ctx.engine, room))
+    rays = dict(zip(eyes, traced))
+    share = {k: sun_through_glazing(ctx.engine, ctx.scene, room, eye, clim, window_tn) for k, eye in eyes.items()}
     r = settings.radiance
     dc = engine.eye_coefficients(octrees, octree, np.array([v.eye for v in views]), np.array([v.direction for v in views]),
                                  settings.sky_subdivision, r.ab, r.ad, r.lw, r.replicates)

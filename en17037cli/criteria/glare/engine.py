@@ -156,12 +156,17 @@ def sky_text(program: str, month: int, day: int, hour: float, lat: float, lon: f
     return turned + SKY_GLOWS
 
 
+def view_args(eye, view_dir) -> list[str]:
+    """Radiance's view options of a 180 deg angular fisheye from ``eye`` along ``view_dir``, z up."""
+    e, v = np.asarray(eye, float), np.asarray(view_dir, float)
+    return ["-vta", "-vv", "180", "-vh", "180", "-vp", *(f"{x:.6f}" for x in e), "-vd", *(f"{x:.6f}" for x in v), "-vu", "0", "0", "1"]
+
+
 def fisheye(octrees: Octrees, octree: str, eye, view_dir, resolution: int, ab: int, ad: int, aa: float, ar: int,
             name: str) -> Path:
     """A 180 deg angular fisheye (``rpict -vta``) from ``eye`` along ``view_dir`` (z up), written to
     ``name`` in the octrees' folder: the picture evalglare reads."""
-    e, v = np.asarray(eye, float), np.asarray(view_dir, float)
-    view = ["-vta", "-vv", "180", "-vh", "180", "-vp", *(f"{x:.6f}" for x in e), "-vd", *(f"{x:.6f}" for x in v), "-vu", "0", "0", "1"]
+    view = view_args(eye, view_dir)
     args = ["rpict", *view, "-x", str(resolution), "-y", str(resolution), "-ps", "1", "-pj", "0", "-ab", str(ab), "-ad", str(ad),
             "-as", "0", "-aa", f"{aa:g}", "-ar", str(ar), "-lw", "1e-3", "-u-", octree]
     path = octrees.dir / name
@@ -176,6 +181,55 @@ def evalglare(picture: Path) -> tuple[float, float]:
     names, values = out.split(":", 1)
     got = dict(zip(names.split(","), (float(x) for x in values.split())))
     return got["dgp"], got["E_v"]
+
+
+#: A pixel brighter than this is the sun's disc seen directly [cd/m²]: the disc of a sun of 14 lx direct normal
+#: illuminance through glass; the brightest sky, by the sun, is below 1e5 (Perez).
+SUN_PIXEL_CD_M2 = 2e5
+
+
+def angular_pixel_solid_angles(n: int) -> np.ndarray:
+    """(n, n) solid angle of each pixel of an ``n`` x ``n`` 180 deg angular fisheye (-vta) [sr]:
+    (π / n)² sin θ / θ, θ the pixel centre's angle from the view; 0 outside the circle."""
+    y, x = np.mgrid[0:n, 0:n]
+    r = np.hypot((x + 0.5) / n * 2 - 1, (y + 0.5) / n * 2 - 1)
+    th = r * np.pi / 2
+    om = (np.pi / n) ** 2 * np.where(th > 0, np.sin(th) / np.where(th > 0, th, 1.0), 1.0)
+    return np.where(r <= 1, om, 0.0)
+
+
+def write_picture(path: Path, lum: np.ndarray, view: str) -> None:
+    """A grey Radiance picture (uncompressed RGBE) of luminance ``lum`` (rows, cols) [cd/m²], top row
+    first, with the view line ``view`` (``-vta -vp ...``)."""
+    v = np.asarray(lum, float) / radiance.EFFICACY_LM_W
+    m, e = np.frexp(v)
+    px = np.zeros(v.shape + (4,), np.uint8)
+    px[..., :3] = np.where(v > 1e-30, np.floor(m * 256.0), 0).astype(np.uint8)[..., None]
+    px[..., 3] = np.where(v > 1e-30, e + 128, 0)
+    head = f"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nVIEW= {view}\n\n-Y {v.shape[0]} +X {v.shape[1]}\n".encode()
+    path.write_bytes(head + px.tobytes())
+
+
+def sun_corrected(picture: Path, view: str) -> tuple[Path, float]:
+    """The fisheye with the sun's disc given its whole energy: rpict samples each pixel at its centre
+    (-ps 1 -pj 0), so the disc (0.533 deg, 6.8e-5 sr) covers as many pixels as have their centre on it,
+    and its L² ω (what the DGP weighs) comes out anywhere from nothing to twice the truth. The pixels
+    at the disc's luminance (above :data:`SUN_PIXEL_CD_M2`) are set to carry L_sun ω_sun together, L_sun
+    the disc's luminance through the glazing as Radiance rendered it. Returns the picture (``picture``
+    itself without the sun in it) and the factor applied to those pixels (1 where none)."""
+    from en17037cli.criteria.glare.dgp import SUN_SOLID_ANGLE_SR
+
+    lum = luminance_picture(picture)
+    top = float(lum.max()) if lum.size else 0.0
+    if top < SUN_PIXEL_CD_M2 or lum.shape[0] != lum.shape[1]:
+        return picture, 1.0
+    om = angular_pixel_solid_angles(lum.shape[0])
+    sun = lum > 0.5 * top
+    factor = top * SUN_SOLID_ANGLE_SR / float((lum[sun] * om[sun]).sum())
+    lum = np.where(sun, lum * factor, lum)
+    out = picture.with_name(picture.stem + "-sun.hdr")
+    write_picture(out, lum, view)
+    return out, factor
 
 
 def luminance_picture(picture: Path) -> np.ndarray:

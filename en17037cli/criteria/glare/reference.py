@@ -41,10 +41,11 @@ def reference_hours(dgp: np.ndarray, k: int, limits: list[float]) -> np.ndarray:
 
 
 def _render(criterion, ctx, octree: str, view, s, name: str):
+    """The reference fisheye of ``view`` (rpict), the sun's disc given its energy (:func:`~.engine.sun_corrected`)."""
     octrees = criterion.octrees(ctx)
     r = s.reference
     pic = engine.fisheye(octrees, octree, view.eye, view.direction, r.resolution_px, r.ab, r.ad, r.aa, r.ar, name)
-    return pic
+    return engine.sun_corrected(pic, " ".join(engine.view_args(view.eye, view.direction)))[0]
 
 
 def reference_check(criterion, ctx, room, vr, clim, s, required: str) -> list[ReferenceHour]:
