@@ -156,3 +156,23 @@ def test_point_in_time_checks_without_weather_are_not_a_verdict(tmp_path):
     g = json.loads(files["report.json"])["rooms"][0]["glare"]
     assert g["status"] == "not_assessable" and "no weather file" in g["reason"]
     assert len(g["moments"]) == 1 and 0.0 < g["moments"][0]["dgp"] <= 1.0 and "gensky" in g["moments"][0]["sky"]
+
+
+def test_sensitivity_study_tries_the_glare_choices(tmp_path):
+    """study sensitivity assesses 5.4 under the open choices it is given (here the usage time on every day
+    and the low-light correction; the others' ranges emptied), each a row of sensitivity.csv."""
+    synthetic_epw(tmp_path / "site.epw")
+    empty = {k: [] for k in ("glare.facade_distance_m", "glare.eye_height_m", "glare.directions", "glare.source_threshold_cd_m2",
+                             "glare.sky_subdivision")}
+    path = _box_project(tmp_path, {"weather": "../site.epw", "view_rays": 5000, "reference": {"hours": 0},
+                                   "radiance": {"ad": 512, "replicates": 2}},
+                        sensitivity={"ranges": {**empty, "glare.usage": ["all days"], "glare.low_light_correction": [True]}},
+                        sunlight={"date": "worst", "period": {"start": "02-01", "end": "02-02"}})
+    r = CliRunner().invoke(cli, ["study", "sensitivity", str(path), "--out", str(tmp_path / "s")])
+    assert r.exit_code == 0, r.output
+    rows = [x for x in csv.DictReader(open(tmp_path / "s" / "sensitivity.csv")) if x["check"] == "glare"]
+    assert [(x["choice"], x["value"]) for x in rows] == [("default", "project"), ("glare.usage", "all days"),
+                                                         ("glare.low_light_correction", "True")]
+    doc = json.loads((tmp_path / "s" / "sensitivity.json").read_text())
+    glare = next(x for x in doc["rooms"] if x["check"] == "glare")
+    assert glare["required"] == "minimum" and glare["verdict"] in ("robust pass", "robust fail") or glare["verdict"].startswith("depends")
