@@ -115,4 +115,7 @@ def build_report(result: RunResult) -> dict:
     result.timer.stage("report")
     t = result.timer.t
     doc["timings_s"] = {k: round(v, 3) for k, v in t.items()} | {"total": round(sum(t.values()), 3)}
+    ref = [res.reference_s for r in result.rooms if (res := r.assessed("glare")) is not None and res.reference]
+    if ref:  # part of the glare stage, not added to the total: what the reference check of 5.4 cost
+        doc["timings_s"]["glare_reference_check"] = round(sum(ref), 3)
     return doc

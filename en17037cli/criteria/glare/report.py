@@ -112,7 +112,8 @@ def with_sunlight(glare: dict, sunlight: dict) -> dict:
 
 def reference_section(res: GlareResult, limits: dict[str, float]) -> dict:
     """The reference check in report.json: each hour's DGP and E_v both ways and the level each gives,
-    the largest and mean difference, and the time it took."""
+    the largest and mean difference (the time it took is in ``timings_s``, which alone may differ
+    between runs)."""
     hours = [{"local_time": h.local_time, "dgp_fast": json_number(h.dgp_fast, 4), "dgp_evalglare": json_number(h.dgp_evalglare, 4),
               "ev_fast_lx": json_number(h.ev_fast_lx, 1), "ev_evalglare_lx": json_number(h.ev_evalglare_lx, 1),
               "class_fast": LEVELS[int(standard.glare_level(h.dgp_fast, limits))],
@@ -120,7 +121,7 @@ def reference_section(res: GlareResult, limits: dict[str, float]) -> dict:
     d = np.array([h.dgp_fast - h.dgp_evalglare for h in res.reference])
     return {"hours": hours, "max_abs_dgp_difference": json_number(np.abs(d).max() if len(d) else None, 4),
             "mean_dgp_difference": json_number(d.mean() if len(d) else None, 4),
-            "classes_agree": sum(h["class_fast"] == h["class_evalglare"] for h in hours), "time_s": round(res.reference_s, 1),
+            "classes_agree": sum(h["class_fast"] == h["class_evalglare"] for h in hours),
             "level_with_mean_difference": None if res.level_reference is None else LEVELS[res.level_reference]}
 
 
