@@ -68,7 +68,7 @@ def test_seed_office_glare_in_every_format(seed):
     assert doc["summary"]["rooms_glare_required"] == 1 and doc["summary"]["rooms_glare_pass"] == 0
     # the hours of the worst view, in the JSON and in glare_hours.csv
     rows = list(csv.DictReader(io.StringIO(files["glare_hours.csv"])))
-    assert len(rows) == 2610 and float(rows[0]["dgp"]) == g["hours"]["dgp"][0]
+    assert len(rows) == 2610 and float(rows[0]["dgp"]) == g["hourly"]["dgp"][0]
     assert sum(float(x["dgp"]) > 0.45 for x in rows) == worst["hours_over"]["0.45"]
     points = list(csv.DictReader(io.StringIO(files["glare_points.csv"])))
     assert len(points) == 3 and float(points[g["worst_position"]]["dgp_5pct"]) == worst["dgp_5pct"]
@@ -77,13 +77,18 @@ def test_seed_office_glare_in_every_format(seed):
     assert "glare-positions.png" in files["report.md"] and "glare-hours.png" in files["report.md"]
     assert any(line.startswith("office,glare,none,minimum,fail") for line in files["rooms.csv"].splitlines())
     assert "glare" in r.output and "DGP" in r.output
+    # a batch's summary row of it: the level and status, no hours of sunlight
+    from en17037cli.report.summary import room_rows
+
+    row = next(x for x in room_rows(doc) if x["criterion"] == "glare")
+    assert (row["level"], row["status"], row["hours_h"]) == ("none", "fail", None)
 
 
 def test_seed_office_glare_hours_by_hand(seed):
     """The report's DGP exceeded in 5 % of the hours is the 131st largest of the worst view's hours."""
     _, files = seed
     g = json.loads(files["report.json"])["rooms"][0]["glare"]
-    dgp = np.sort(np.array(g["hours"]["dgp"]))[::-1]
+    dgp = np.sort(np.array(g["hourly"]["dgp"]))[::-1]
     assert dgp[130] == pytest.approx(g["dgp_5pct"], abs=1e-4)
 
 

@@ -136,9 +136,12 @@ class GlareCriterion(Criterion):
         return glare_section(ctx.scene, result, self.required(room), self._settings(ctx))
 
     def illustrate(self, ctx: Context, room, result: GlareResult):
-        from en17037cli.criteria.view.pictures import room_plan
+        from typing import cast
 
-        return room_plan(ctx.scene, room, _AsView(0.5, 0.5))
+        from en17037cli.criteria.view.pictures import room_plan
+        from en17037cli.project.settings import ViewSettings
+
+        return room_plan(ctx.scene, room, cast(ViewSettings, _AsView(0.5, 0.5)))  # the plan's outline and windows only
 
 
 class _AsView:

@@ -81,7 +81,7 @@ def glare_section(scene: Scene, res: GlareResult, required: str, settings: Glare
                                 "monte_carlo_dgp_error": json_number(max(v.dgp_5pct_err for v in res.views), 4),
                                 "method": ANNUAL_METHOD},
             "reference_check": reference_section(res, limits),
-            "hours": {"position": res.worst, "local_time": [str(t).replace("T", " ") for t in res.usage_local],
+            "hourly": {"position": res.worst, "local_time": [str(t).replace("T", " ") for t in res.usage_local],
                       "dgp": [json_number(x, 4) for x in w.dgp], "dgp_unshaded": [json_number(x, 4) for x in w.dgp_unshaded],
                       "vertical_illuminance_lx": [json_number(x, 1) for x in w.ev_lx],
                       "sun_in_view": [bool(x) for x in w.sun_in_view], "shaded": [bool(x) for x in w.shaded]},
@@ -150,9 +150,9 @@ def glare_hours_csv(report: dict) -> str:
     w.writerow(["room", "position", "local_time", "dgp", "dgp_unshaded", "vertical_illuminance_lx", "sun_in_view", "shaded"])
     for room in report["rooms"]:
         sec = room.get("glare")
-        if not sec or "hours" not in sec:
+        if not sec or "hourly" not in sec:
             continue
-        h = sec["hours"]
+        h = sec["hourly"]
         label = sec["positions"][h["position"]]["label"]
         rows = zip(h["local_time"], h["dgp"], h["dgp_unshaded"], h["vertical_illuminance_lx"], h["sun_in_view"], h["shaded"])
         w.writerows([room["name"], label, t, d, u, e, int(s), int(sh)] for t, d, u, e, s, sh in rows)
