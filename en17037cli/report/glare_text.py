@@ -49,7 +49,8 @@ def glare_paragraph(section: dict) -> str:
     check = ""
     if ref["hours"]:
         check = (f" Reference check at {len(ref['hours'])} hours of view {section['worst_position'] + 1} (evalglare on rpict "
-                 f"fisheyes): DGP differs by {ref['max_abs_dgp_difference']:.3f} at most (mean {ref['mean_dgp_difference']:+.3f}); "
+                 f"fisheyes): DGP differs by {ref['max_abs_dgp_difference']:.3f} at most, the annual method "
+                 f"{abs(ref['mean_dgp_difference']):.3f} {'lower' if ref['mean_dgp_difference'] < 0 else 'higher'} on average; "
                  f"every hour moved by that mean, the room's level is {ref['level_with_mean_difference']}.")
     return (f"{head}; {glare_limit_text(section)}. Usage time {m['usage']} of {m['year']} ({section['usage_hours']} hours, "
             f"weather `{m['weather']}`); DGP ± {err['dgp_error']:.3f}. The sun is in view at a critical position in "
