@@ -160,6 +160,7 @@ def _room(room: dict, figures, n0: int) -> list[str]:
     g = room.get("glare")
     if g and "method" in g:
         text = glare_paragraph(g).split("; ", 1)[-1].replace("`", "")
+        text = text[:1].upper() + text[1:]
         H += [f"<h3>Protection from glare: {escape(g['level'] or '-')} {_status(STATUS_LABEL[g['status']])}</h3>",
               f"<p>Required: {escape(g['required'])}. {escape(text)}</p>"]
         tables = ([positions_table(g)] if g["positions"] else []) + [t for t in (reference_table(g), moments_table(g)) if len(t) > 1]

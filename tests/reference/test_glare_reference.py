@@ -182,3 +182,28 @@ def test_direct_coefficients_of_the_rays_are_rcontribs():
     # each patch's share: the rays' 200,000 directions against rcontrib's 65,536 samples (about 1 % each)
     assert mine[seen] == pytest.approx(dc[seen], rel=0.05)
     assert mine.sum() == pytest.approx(dc.sum(), rel=0.01)
+
+
+@pytest.mark.parametrize("pixels", [1, 4])
+def test_the_suns_disc_keeps_its_energy_in_the_reference_picture(tmp_path, pixels):
+    """A 400 px fisheye of a 100 cd/m² field with the sun rendered on ``pixels`` pixels at its luminance
+    (5e7 cd/m², what rpict gives a pixel whose centre falls on the disc): the correction draws the disc
+    on one pixel (its solid angle at 400 px) with its energy L ω_sun, and evalglare then sees the disc
+    the tool's DGP sees (its L² ω by ω_sun / ω_pixel = 1.1 too large: +0.004 DGP)."""
+    d, om, inside = fisheye_pixels(N)
+    lum = np.where(inside, 100.0, 0.0)
+    rows, cols = np.unravel_index(np.argsort(np.abs(d[..., 2] - math.sin(math.radians(30))) + np.abs(d[..., 0]),
+                                             axis=None)[:pixels], lum.shape)
+    lum[rows, cols] = 5e7
+    view = "-vta -vv 180 -vh 180 -vp 0 0 0 -vd 0 1 0 -vu 0 0 1"
+    write_hdr(tmp_path / "s.hdr", lum)
+    fixed, factor = engine.sun_corrected(tmp_path / "s.hdr", view)
+    got = engine.luminance_picture(fixed)
+    sun = got > 1e6
+    assert (got[sun] * om[sun]).sum() == pytest.approx(5e7 * SUN_SOLID_ANGLE_SR, rel=0.01)  # RGBE keeps 1 % at most
+    assert sun.sum() == 1 and got[~sun & inside].max() == pytest.approx(100.0, rel=0.01)
+    assert factor == pytest.approx(SUN_SOLID_ANGLE_SR / om[rows, cols].sum(), rel=1e-9)
+    dgp_ref, ev = engine.evalglare(fixed)
+    centre = d[sun][0]
+    p = position_index([centre / np.linalg.norm(centre)], [0.0, 1.0, 0.0])[0]
+    assert dgp_ref == pytest.approx(float(dgp(ev, 5e7**2 * SUN_SOLID_ANGLE_SR / p**2)), abs=0.01)

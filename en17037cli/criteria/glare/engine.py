@@ -211,12 +211,16 @@ def write_picture(path: Path, lum: np.ndarray, view: str) -> None:
 
 
 def sun_corrected(picture: Path, view: str) -> tuple[Path, float]:
-    """The fisheye with the sun's disc given its whole energy: rpict samples each pixel at its centre
-    (-ps 1 -pj 0), so the disc (0.533 deg, 6.8e-5 sr) covers as many pixels as have their centre on it,
-    and its L² ω (what the DGP weighs) comes out anywhere from nothing to twice the truth. The pixels
-    at the disc's luminance (above :data:`SUN_PIXEL_CD_M2`) are set to carry L_sun ω_sun together, L_sun
-    the disc's luminance through the glazing as Radiance rendered it. Returns the picture (``picture``
-    itself without the sun in it) and the factor applied to those pixels (1 where none)."""
+    """The fisheye with the sun's disc drawn on as many pixels as its solid angle covers, carrying its
+    whole energy. rpict samples each pixel at its centre (-ps 1 -pj 0), so the disc (0.533 deg,
+    6.8e-5 sr) covers as many pixels as have their centre on it, and evalglare, which merges them into
+    one source of their mean luminance and summed solid angle, weighs E² / ω_pixels instead of
+    E² / ω_sun (E = L ω_sun, L the disc's luminance through the glazing as Radiance rendered it, the
+    brightest pixel above :data:`SUN_PIXEL_CD_M2`): anything from nothing (no centre on it) to several
+    times too little. The k = round(ω_sun / ω_pixel) pixels nearest the disc's centre (at least one:
+    one at 400 px, four at 800) get E / Σ ω; its other pixels the median of the sky around them.
+    Returns the picture (``picture`` itself without the sun in it) and E over the energy the disc's
+    pixels had (1 where there is no sun)."""
     from en17037cli.criteria.glare.dgp import SUN_SOLID_ANGLE_SR
 
     lum = luminance_picture(picture)
@@ -225,8 +229,21 @@ def sun_corrected(picture: Path, view: str) -> tuple[Path, float]:
         return picture, 1.0
     om = angular_pixel_solid_angles(lum.shape[0])
     sun = lum > 0.5 * top
-    factor = top * SUN_SOLID_ANGLE_SR / float((lum[sun] * om[sun]).sum())
-    lum = np.where(sun, lum * factor, lum)
+    rows, cols = np.nonzero(sun)
+    w = om[sun]
+    cy, cx = float((rows * w).sum() / w.sum()), float((cols * w).sum() / w.sum())
+    k = max(1, int(round(SUN_SOLID_ANGLE_SR / float(om[int(round(cy)), int(round(cx))] or w.mean()))))
+    pad = int(np.ceil(np.sqrt(k))) + 2
+    r0, c0 = max(rows.min() - pad, 0), max(cols.min() - pad, 0)
+    box_r, box_c = np.mgrid[r0:rows.max() + pad + 1, c0:cols.max() + pad + 1]
+    box_r, box_c = np.minimum(box_r, lum.shape[0] - 1), np.minimum(box_c, lum.shape[1] - 1)
+    near = np.argsort(np.hypot(box_r - cy, box_c - cx), axis=None, kind="stable")[:k]
+    kr, kc = box_r.ravel()[near], box_c.ravel()[near]
+    around = lum[box_r, box_c][~sun[box_r, box_c] & (om[box_r, box_c] > 0)]
+    energy = top * SUN_SOLID_ANGLE_SR
+    factor = energy / float((lum[sun] * w).sum())
+    lum = np.where(sun, float(np.median(around)) if around.size else 0.0, lum)
+    lum[kr, kc] = energy / float(om[kr, kc].sum())
     out = picture.with_name(picture.stem + "-sun.hdr")
     write_picture(out, lum, view)
     return out, factor
