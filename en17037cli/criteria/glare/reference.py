@@ -48,27 +48,43 @@ def _render(criterion, ctx, octree: str, view, s, name: str):
     return engine.sun_corrected(pic, " ".join(engine.view_args(view.eye, view.direction)))[0]
 
 
+def in_parallel(fn, jobs: list) -> list:
+    """``fn(*job)`` for every job on the cores this process may use (each a Radiance program: threads
+    only wait for them), results in the jobs' order."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from en17037cli.raytrace import default_threads
+
+    if len(jobs) <= 1:
+        return [fn(*j) for j in jobs]
+    with ThreadPoolExecutor(max_workers=min(default_threads(), len(jobs))) as pool:
+        return list(pool.map(lambda j: fn(*j), jobs))
+
+
 def reference_check(criterion, ctx, room, vr, clim, s, required: str) -> list[ReferenceHour]:
-    """The annual method's DGP and E_v against evalglare's at the reference hours of one view."""
+    """The annual method's DGP and E_v against evalglare's at the reference hours of one view, the
+    hours rendered side by side."""
     w = criterion.weather(ctx)
     octrees = criterion.octrees(ctx)
     g = dict(s.reflectance)["ground"]
-    out = []
     limits = s.limits()
     first = limits.get(required, limits["minimum"])
     order = [first] + [v for v in limits.values() if v != first]
-    for h in reference_hours(vr.dgp_unshaded, s.reference.hours, order):  # a few renderings
+    tag = f"ref{room.index}"
+
+    def one(k: int, h: int) -> ReferenceHour:
         row = int(clim.usage.rows[h])
         sky = engine.sky_text("gendaylit", int(w.month[row]), int(w.day[row]), float(w.hour[row]) - 0.5, w.latitude, w.longitude,
                               15.0 * w.tz_hours, ctx.scene.true_north_deg, g, float(np.nan_to_num(w.dni_wh_m2[row])),
                               float(np.nan_to_num(w.dhi_wh_m2[row])))
-        octree = octrees.with_sky(sky)
-        pic = _render(criterion, ctx, octree, vr.view, s, "reference.hdr")
+        octree = octrees.with_sky(sky, name=f"{tag}-{k}")
+        pic = _render(criterion, ctx, octree, vr.view, s, f"{tag}-{k}.hdr")
         d, ev = engine.evalglare(pic)
         octrees.drop(octree)
-        out.append(ReferenceHour(str(clim.usage.local_start[h]).replace("T", " "), float(vr.dgp_unshaded[h]), d,
-                                 float(vr.ev_lx[h]), ev))
-    return out
+        return ReferenceHour(str(clim.usage.local_start[h]).replace("T", " "), float(vr.dgp_unshaded[h]), d, float(vr.ev_lx[h]), ev)
+
+    hours = reference_hours(vr.dgp_unshaded, s.reference.hours, order)
+    return in_parallel(one, [(k, int(h)) for k, h in enumerate(hours)])
 
 
 def moment_sky(criterion, ctx, text: str, s) -> tuple[str, str]:
@@ -112,11 +128,14 @@ def moments(criterion, ctx, room, views, s) -> list[MomentResult]:
             else:
                 skies[text] = (octrees.with_sky(sky, name=f"moment{len(skies)}"), words)
         octree, words = skies[text]
-        for v in views:
-            if octree is None:
-                out.append(MomentResult(text, v, words, float("nan"), float("nan")))
-                continue
-            pic = _render(criterion, ctx, octree, v, s, "moment.hdr")
+        if octree is None:
+            out += [MomentResult(text, v, words, float("nan"), float("nan")) for v in views]
+            continue
+
+        def one(k: int, v, text=text, octree=octree, words=words) -> MomentResult:
+            pic = _render(criterion, ctx, octree, v, s, f"moment{room.index}-{k}.hdr")
             d, ev = engine.evalglare(pic)
-            out.append(MomentResult(text, v, words, d, ev, engine.luminance_picture(pic)))
+            return MomentResult(text, v, words, d, ev, engine.luminance_picture(pic))
+
+        out += in_parallel(one, list(enumerate(views)))  # the views rendered side by side
     return out
