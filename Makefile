@@ -16,6 +16,7 @@ install: $(STAMP)
 
 samples: $(STAMP)
 	$(PY) scripts/make_synthetic_project.py sample_projects/synthetic-street
+	$(PY) scripts/make_synthetic_weather.py sample_projects/seed-office/weather/delft-synthetic.epw --lat 52.0116 --lon 4.3571
 
 demo: $(STAMP) samples
 	$(VENV)/bin/en17037 check sample_projects/seed-office/project.yaml --out out/seed-office; \

@@ -31,6 +31,9 @@ Speed is measured here, never in a timed test. Sections:
    office's whole ``check`` (median of 3), the paper's 2 x 1400-point grid, the 216-room block per
    room after the fixed start (1 room against 216), a 1,000,000-triangle context loaded and
    built from binary PLY and from OBJ, and the peak memory of each.
+11. **Glare** (issue 37, :mod:`bench_glare`): protection from glare (5.4) on the seed office and a
+   real IFC house: wall time, user CPU time of the check and its Radiance programs, the reference
+   check's share; target: the seed office's annual glare under 30 s on 2 cores.
 
 Usage: ``python benchmarks/bench.py [--out bench.json] [--quick] [--only SECTION ...]`` from the
 repository (it needs ``sample_projects/``).
@@ -514,7 +517,8 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "citygml", "building", "dask", "daylight", "targets")
+SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "citygml", "building", "dask", "daylight", "glare",
+            "targets")
 
 
 def main(argv=None) -> int:
@@ -585,6 +589,12 @@ def main(argv=None) -> int:
         result["daylight"] = daylight_cost()
         _table("Daylight provision (5.1), method 1 at the defaults (-ab 5 -ad 512, 4 replicates) [s]", result["daylight"],
                ["project", "rooms", "points", "pass", "levels", "daylight_s", "wall_s"])
+    if "glare" in args.only:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from bench_glare import COLUMNS, glare_cost
+
+        result["glare"] = glare_cost()
+        _table("Protection from glare (5.4), annual method at the defaults, --only glare --no-plots [s, MB]", result["glare"], COLUMNS)
     if "targets" in args.only:
         if "throughput" not in result:
             result["throughput"] = throughput()

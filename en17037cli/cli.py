@@ -110,7 +110,7 @@ class Group(click.Group):
 @click.group(cls=Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="en17037")
 def cli():
-    """Check EN 17037 daylight provision (5.1), view out (5.2) and exposure to sunlight (5.3) on a 3D model."""
+    """Check EN 17037 daylight provision (5.1), view out (5.2), exposure to sunlight (5.3) and protection from glare (5.4) on a 3D model."""
 
 
 def junit_option(fn):
@@ -123,7 +123,7 @@ def junit_option(fn):
 @project_argument
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Report folder [default: en17037-report/<project file stem>/ beside the project file].")
-@click.option("--only", type=click.Choice(["view", "sunlight", "daylight"]), default=None,
+@click.option("--only", type=click.Choice(["view", "sunlight", "daylight", "glare"]), default=None,
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option
@@ -440,7 +440,7 @@ def sensitivity(project_file: Path, out_dir: Path, overrides):
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Run on a Dask cluster: its scheduler's address (tcp://host:8786), or 'local' for a LocalCluster "
                    "(needs the dask extra).")
-@click.option("--only", type=click.Choice(["view", "sunlight", "daylight"]), default=None,
+@click.option("--only", type=click.Choice(["view", "sunlight", "daylight", "glare"]), default=None,
               help="Run one check only (a required check left out is NOT ASSESSED and fails).")
 @set_option
 @max_points_option

@@ -26,6 +26,7 @@ LEVEL_RANK = {None: -1, "none": 0, "minimum": 1, "medium": 2, "high": 3}
 STATUS_RANK = {None: 3, "pass": 2, "fail": 1, "not_assessable": 0, "not_assessed": 0}
 #: How the comparison names the criteria (and the dwellings' sunlight rule).
 TITLES = {"view": "view out (5.2)", "sunlight": "sunlight (5.3)", "daylight": "daylight provision (5.1)",
+          "glare": "protection from glare (5.4)",
           "dwelling": "sunlight rule of the dwelling"}
 #: Changes, in the order tables list them.
 CHANGES = ("worse", "added", "removed", "better", "changed", "same")

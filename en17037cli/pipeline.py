@@ -146,13 +146,13 @@ def assess_dwelling(d: Dwelling, rooms: dict[str, RoomResult], rule: str, thresh
 
 def overall_status(rooms: list[RoomResult], dwellings: list[DwellingResult], required: tuple[str, ...] = (),
                    spaces_left_out: int = 0) -> str:
-    """``pass`` when every required level is met: view and daylight in every room, sunlight in every
-    dwelling. A required criterion that did not assess a room (not assessed, not assessable) does
+    """``pass`` when every required level is met: view, daylight and glare in every room, sunlight in
+    every dwelling. A required criterion that did not assess a room (not assessed, not assessable) does
     not meet its requirement. Never a pass on nothing: each criterion in ``required`` (the project
     asks a level of it) must have assessed at least one room, and no space of the model with a
     window may have been left out (``spaces_left_out``: a space the project picked that opens onto
     a window but could not be made a room)."""
-    ok = all(r.status("view") in (None, "pass") and r.status("daylight") in (None, "pass") for r in rooms)
+    ok = all(r.status(c) in (None, "pass") for r in rooms for c in ("view", "daylight", "glare"))
     ok &= all(d.status in (None, "pass") for d in dwellings)
     ok &= all(any(r.status(c) in ("pass", "fail") for r in rooms) for c in required)
     ok &= spaces_left_out == 0

@@ -92,6 +92,35 @@ SUN_POINT_MIN_ABOVE_SILL_M = 0.3
 #: Clause 5.3: the assessed date lies between 1 February and 21 March (MM-DD).
 SUN_PERIOD = ("02-01", "03-21")
 
+#: Clause 5.4 (EN 17037:2018+A1:2021): the daylight glare probability a level allows at
+#: a critical position, exceeded in at most GLARE_EXCEEDANCE of the usage hours (compared with ``<=``).
+GLARE_DGP_LIMITS: dict[str, float] = {"minimum": 0.45, "medium": 0.40, "high": 0.35}
+GLARE_EXCEEDANCE = 0.05
+#: Clause 5.4: the usage time of the annual method, local clock: 08:00 to 18:00, Monday to Friday.
+GLARE_USAGE = ("08:00", "18:00", "weekdays")
+
+
+def dgp_exceeded(dgp, fraction: float = GLARE_EXCEEDANCE) -> np.ndarray:
+    """DGP exceeded in ``fraction`` of the hours (DGP_e,5% of clause 5.4): the (m + 1)-th largest
+    value, m = floor(fraction n), so that at most m hours lie above it. ``dgp``: (..., n) per hour;
+    NaN with no hour. A level's limit is met when this value is at or below it (:func:`glare_level`)."""
+    v = np.sort(np.asarray(dgp, dtype=float), axis=-1)
+    n = v.shape[-1]
+    if n == 0:
+        return np.full(v.shape[:-1], np.nan)
+    m = int(np.floor(fraction * n + 1e-9))
+    return v[..., n - 1 - min(m, n - 1)]
+
+
+def glare_level(dgp_5pct, limits: dict[str, float] | None = None) -> np.ndarray:
+    """Level index (0..3) of the DGP exceeded in 5 % of the usage hours: the highest level whose limit
+    it does not pass (clause 5.4); NaN reaches none."""
+    lim = limits or GLARE_DGP_LIMITS
+    v = np.asarray(dgp_5pct, dtype=float)
+    with np.errstate(invalid="ignore"):
+        return ((v <= lim["minimum"]).astype(int) * (1 + (v <= lim["medium"]).astype(int) * (1 + (v <= lim["high"]).astype(int))))
+
+
 @dataclass(frozen=True)
 class Practice:
     """A national practice built on EN 17037: the project values it sets, and where it says so."""

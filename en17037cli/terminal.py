@@ -92,7 +92,7 @@ def summary(report: dict, out: Path):
     for col in ("room", "check", "reached", "required", "result"):
         table.add_column(col)
     for room in report["rooms"]:
-        for name, key in (("daylight", "daylight"), ("view out", "view"), ("sunlight", "sunlight")):
+        for name, key in (("daylight", "daylight"), ("view out", "view"), ("sunlight", "sunlight"), ("glare", "glare")):
             r = room.get(key)
             if r:
                 extra = ""
@@ -100,6 +100,8 @@ def summary(report: dict, out: Path):
                     extra = f" ({fmt_duration(r['hours_h'])} on {r['assessed_date']})"
                 if key == "daylight" and r["status"] in ("pass", "fail"):
                     extra = f" ({daylight_words(r)})"
+                if key == "glare" and r["status"] in ("pass", "fail"):
+                    extra = f" (DGP {r['dgp_5pct']:.2f} in 5 % of {r['usage_hours']} h)"
                 table.add_row(room["name"], name + extra, r["level"] or "-", r["required"], STATUS_LABEL[r["status"]])
     console = stdout_console()
     console.print(table)
@@ -126,7 +128,7 @@ def why_lines(report: dict) -> list[str]:
 
     out = []
     for room in report["rooms"]:
-        for key, name in (("daylight", "daylight"), ("view", "view out"), ("sunlight", "sunlight")):
+        for key, name in (("daylight", "daylight"), ("view", "view out"), ("sunlight", "sunlight"), ("glare", "glare")):
             r = room.get(key)
             if not r or r["status"] == "pass":
                 continue

@@ -6,6 +6,7 @@ The file is synthetic; give a real EPW of the site (daylight.weather) for a real
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from en17037cli.samples.weather import synthetic_epw
 
@@ -16,4 +17,5 @@ if __name__ == "__main__":
     ap.add_argument("--lon", type=float, default=4.36)
     ap.add_argument("--tz", type=float, default=1.0)
     a = ap.parse_args()
+    Path(a.out).parent.mkdir(parents=True, exist_ok=True)
     print(synthetic_epw(a.out, lat=a.lat, lon=a.lon, tz=a.tz))

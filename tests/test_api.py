@@ -21,6 +21,6 @@ def test_api_report_equals_the_cli_report(box_project, tmp_path):
     assert doc == json.loads(json.dumps(cli_doc))
     # typed results: the box room's 2 x 1.4 m south window, 25 m street (see en17037cli.samples)
     room = result.rooms[0]
-    assert room.room.name == "box room" and set(room.results) == {"view", "sunlight", "daylight"}
+    assert room.room.name == "box room" and set(room.results) == {"view", "sunlight", "daylight", "glare"}
     assert room.level("view") == doc["rooms"][0]["view"]["level"]
     assert [e.eye_height_m for e in room.results["view"].eye_heights] == [1.2, 1.7]

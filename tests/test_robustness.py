@@ -437,7 +437,7 @@ def test_signals_exit_by_convention_and_leave_no_temporaries(tmp_path, sig, code
 def test_usage_errors_are_one_line(tmp_path):
     one_line_error(invoke("check"), "Missing argument 'PROJECT_FILE'", "(see cli check --help)")  # CliRunner names the program after the function
     one_line_error(invoke("nope"), "No such command 'nope'")
-    one_line_error(invoke("check", "x.yaml", "--only", "glare"), "Invalid value for '--only'")
+    one_line_error(invoke("check", "x.yaml", "--only", "glint"), "Invalid value for '--only'")
 
 
 def test_memory_of_this_process_is_sane():

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
+from en17037cli.project.glare_settings import glare_settings
 from en17037cli.project.overrides import apply_overrides, moot_overrides
 from en17037cli.project.schema import fill_defaults, key_path, validation_errors
 from en17037cli.project.settings import (
@@ -33,7 +34,7 @@ from en17037cli.project.settings import (
 )
 from en17037cli.project.yaml12 import parse_yaml_or_fail
 from en17037cli.schemas import load_schema
-from en17037cli.standard import PRACTICES, THRESHOLDS, Thresholds
+from en17037cli.standard import GLARE_DGP_LIMITS, PRACTICES, THRESHOLDS, Thresholds
 
 
 def read_points_csv(path: Path, what: str) -> list[list[float]]:
@@ -153,6 +154,9 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
         config.setdefault("thresholds", {}).setdefault(name, dict(values))
     if "daylight" in config:  # clause 5.1 is asked at the lowest level unless the project says otherwise
         config["requirements"].setdefault("daylight", "minimum")
+    if "glare" in config:  # clause 5.4 likewise; its DGP limits are the standard's unless the project gives its own
+        config["requirements"].setdefault("glare", "minimum")
+        config["glare"].setdefault("dgp_limits", dict(GLARE_DGP_LIMITS))
     _check_consistency(path, config)
     return replace(_settings(path, config), practice=config["practice"], practice_set=practice_set,
                    warnings=tuple(moot_overrides(config, overrides or [])))
@@ -212,6 +216,7 @@ def _settings(path: Path, config: dict) -> Project:
         view=view_settings(config["view"]) if "view" in config else None,
         sunlight=sun_settings(config["sunlight"]) if "sunlight" in config else None,
         daylight=daylight_settings(config["daylight"], directory) if "daylight" in config else None,
+        glare=glare_settings(config["glare"], directory, config.get("daylight")) if "glare" in config else None,
         requirements=requirements, thresholds=Thresholds.from_dict(config["thresholds"]), config=config,
         dwellings=dwellings_spec(config.get("dwellings")))
 
@@ -281,6 +286,8 @@ def _check_consistency(path: Path, config: dict) -> None:
             raise InputError(f"{path}: dwellings.by_pattern: needs a named group (?P<dwelling>...) that names the dwelling")
     if "daylight" in config:
         _check_daylight(path, config["daylight"])
+    if "glare" in config:
+        _check_glare(path, config)
     if "view" in config:
         st = config["view"]["distance_statistic"]
         if st.startswith("p") and not 0 <= int(st[1:]) <= 100:
@@ -299,3 +306,31 @@ def _check_daylight(path: Path, d: dict) -> None:
     if d["method"] == "daylight_factor" and w is None and d.get("median_diffuse_lx") is None:
         raise InputError(f"{path}: daylight.median_diffuse_lx: the daylight factor method needs E_v,d,med: give "
                          "median_diffuse_lx [lx] (EN 17037 Table A.3 lists it for European capitals) or a weather file (EPW)")
+
+
+def _check_glare(path: Path, config: dict) -> None:
+    """The glare section's rules: a weather file that exists, something to assess, a usage time
+    that is a time span, point-in-time checks that are moments, and a site."""
+    g = config["glare"]
+    w = g.get("weather")
+    if w is not None and not (path.parent / w).is_file():
+        raise InputError(f"{path}: glare.weather: file not found: {path.parent / w}; give an EPW weather file of the site")
+    if w is None and not g["times"]:
+        raise InputError(f"{path}: glare.weather: the annual glare check needs an EPW weather file of the site; give "
+                         "glare.weather, or glare.times for point-in-time checks only")
+    if "location" not in config:
+        raise InputError(f"{path}: location: required for the glare check (timezone; latitude and longitude unless the "
+                         "model gives them); or remove the glare section")
+    start, end = g["usage"]["start"], g["usage"]["end"]
+    if not start < end:
+        raise InputError(f"{path}: glare.usage: start {start} is not before end {end}; give the usage time as "
+                         "{start: '08:00', end: '18:00'}")
+    for i, t in enumerate(g["times"]):
+        try:
+            dt.datetime.fromisoformat(t)
+        except ValueError:
+            raise InputError(f"{path}: glare.times[{i}]: {t!r} is not a date and time; write it as 2026-12-21T12:00") from None
+    lim = g["dgp_limits"]
+    if not lim["minimum"] >= lim["medium"] >= lim["high"]:
+        raise InputError(f"{path}: glare.dgp_limits: expected minimum >= medium >= high (a higher level allows less "
+                         f"glare), got {lim}")

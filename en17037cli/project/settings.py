@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from en17037cli.project.glare_settings import GlareSettings
 from en17037cli.standard import Thresholds
 
 
@@ -105,6 +106,7 @@ class Requirements:
     sunlight: str
     sunlight_rooms: str = "all"
     daylight: str = "none"
+    glare: str = "none"
 
 
 @dataclass(frozen=True)
@@ -268,6 +270,7 @@ class Project:
     config: dict
     daylight: DaylightSettings | None = None
     dwellings: DwellingsSpec | None = None
+    glare: GlareSettings | None = None
     practice: str = "en17037"
     practice_set: tuple[tuple[str, object], ...] = ()  # the values the practice set (key path, value)
     warnings: tuple[str, ...] = ()  # overrides that change nothing under these settings, with why

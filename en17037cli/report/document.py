@@ -38,9 +38,10 @@ def summary(result: RunResult) -> dict:
     out = {"rooms": len(result.rooms), "rooms_view_required": len(view), "rooms_view_pass": view.count("pass"),
            "dwellings": len(result.dwellings), "dwellings_sunlight_required": len(sun),
            "dwellings_sunlight_pass": sun.count("pass")}
-    daylight = [r.status("daylight") for r in result.rooms if r.status("daylight") is not None]
-    if daylight:
-        out |= {"rooms_daylight_required": len(daylight), "rooms_daylight_pass": daylight.count("pass")}
+    for c in ("daylight", "glare"):
+        st = [r.status(c) for r in result.rooms if r.status(c) is not None]
+        if st:
+            out |= {f"rooms_{c}_required": len(st), f"rooms_{c}_pass": st.count("pass")}
     if result.scene.spaces:  # rooms from a model's spaces: the ones with windows that could not be assessed
         out["spaces_with_windows_not_assessed"] = sum(1 for lo in result.scene.left_out if lo.windows)
     return out
@@ -87,6 +88,12 @@ def build_report(result: RunResult) -> dict:
                                     if reached else room.withheld}
         if any(r.status(c) not in (None, "pass") for c in CRITERIA):
             entry["status"] = "fail"
+        if entry.get("glare") is None:
+            entry.pop("glare", None)  # neither run nor required: the reports of projects without 5.4 stay as they were
+        elif entry.get("sunlight"):
+            from en17037cli.criteria.glare.report import with_sunlight
+
+            entry["glare"] = with_sunlight(entry["glare"], entry["sunlight"])
         rooms.append(entry)
     for r in result.rooms:
         for name, criterion in CRITERIA.items():
@@ -115,4 +122,7 @@ def build_report(result: RunResult) -> dict:
     result.timer.stage("report")
     t = result.timer.t
     doc["timings_s"] = {k: round(v, 3) for k, v in t.items()} | {"total": round(sum(t.values()), 3)}
+    ref = [res.reference_s for r in result.rooms if (res := r.assessed("glare")) is not None and res.reference]
+    if ref:  # part of the glare stage, not added to the total: what the reference check of 5.4 cost
+        doc["timings_s"]["glare_reference_check"] = round(sum(ref), 3)
     return doc

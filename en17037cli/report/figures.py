@@ -32,7 +32,7 @@ class Figure:
 
     name: str
     room: str
-    section: str  # "view", "sunlight" or "daylight"
+    section: str  # "view", "sunlight", "daylight" or "glare"
     caption: str
     png: bytes
     svg: bytes = b""
@@ -176,12 +176,21 @@ def daylight_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
                              "spacing_m": plan.spacing_m, "title": title})]
 
 
+def glare_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
+    """Room ``i``'s map of critical positions, the hourly DGP of its worst view and the fisheye of
+    each point-in-time check (:mod:`en17037cli.criteria.glare.pictures`)."""
+    from en17037cli.criteria.glare.pictures import glare_jobs as jobs
+
+    return [Job(*j) for j in jobs(result, i, slug, FIGURES_DIR)]
+
+
 def figure_jobs(result: RunResult) -> list[Job]:
     """Every picture of a run (a run made with ``pictures=True``), room by room, as jobs."""
     out = []
     for i, r in enumerate(result.rooms):
         slug = room_slug(i, r.room.name)
         out += view_jobs(result, i, slug) + sunlight_jobs(result, i, slug) + daylight_jobs(result, i, slug)
+        out += glare_jobs(result, i, slug)
     return out
 
 

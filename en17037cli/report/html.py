@@ -16,6 +16,7 @@ import base64
 import re
 from html import escape
 
+from en17037cli.report.glare_text import glare_paragraph, moments_table, positions_table, reference_table, together_text
 from en17037cli.report.labels import STATUS_LABEL, assessed, is_repair
 from en17037cli.report.markdown import (
     daylight_paragraph,
@@ -156,6 +157,20 @@ def _room(room: dict, figures, n0: int) -> list[str]:
         mine = [f for f in pics if f.section == "sunlight"]
         H.append(_figures(mine, n))
         n += len(mine)
+    g = room.get("glare")
+    if g and "method" in g:
+        text = glare_paragraph(g).split("; ", 1)[-1].replace("`", "")
+        text = text[:1].upper() + text[1:]
+        H += [f"<h3>Protection from glare: {escape(g['level'] or '-')} {_status(STATUS_LABEL[g['status']])}</h3>",
+              f"<p>Required: {escape(g['required'])}. {escape(text)}</p>"]
+        tables = ([positions_table(g)] if g["positions"] else []) + [t for t in (reference_table(g), moments_table(g)) if len(t) > 1]
+        H += [_table(t) for t in tables]
+        both = together_text(room)
+        if both:
+            H.append(f"<p><b>{escape(both)}</b></p>")
+        mine = [f for f in pics if f.section == "glare"]
+        H.append(_figures(mine, n))
+        n += len(mine)
     H.append("</section>")
     return H
 
@@ -169,7 +184,8 @@ def _model_files(report: dict) -> str:
     return _table(rows)
 
 
-_CLAUSES = {"daylight": "5.1 (daylight provision)", "view": "5.2 (view out)", "sunlight": "5.3 (exposure to sunlight)"}
+_CLAUSES = {"daylight": "5.1 (daylight provision)", "view": "5.2 (view out)", "sunlight": "5.3 (exposure to sunlight)",
+            "glare": "5.4 (protection from glare)"}
 
 
 def _clauses(report: dict) -> str:
@@ -225,7 +241,8 @@ def report_html(report: dict, figures=()) -> str:
     if repairs or report["notes"]:
         H += ["<h3>The model as read</h3><ul>"] + [f"<li>{escape(w)}</li>" for w in repairs + report["notes"]] + ["</ul>"]
     H.append('<p class="small">Every point and day: view_points.csv, sunlight_days.csv and daylight_points.csv beside this '
-             "file; the whole result: report.json.</p></section>")
+             "file" + (", every glare view and hour: glare_points.csv and glare_hours.csv" if any(r.get("glare") for r in report["rooms"])
+                       else "") + "; the whole result: report.json.</p></section>")
     H.append("</body></html>")
     return "\n".join(H) + "\n"
 

@@ -28,7 +28,8 @@ from en17037cli.report.summary import RunRecord
 #: Characters XML 1.0 does not allow (control characters in names from a model), dropped.
 _NOT_XML = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff]")
 #: How testcases name the criteria.
-CRITERION_TITLE = {"view": "view out (5.2)", "sunlight": "exposure to sunlight (5.3)", "daylight": "daylight provision (5.1)"}
+CRITERION_TITLE = {"view": "view out (5.2)", "sunlight": "exposure to sunlight (5.3)", "daylight": "daylight provision (5.1)",
+                   "glare": "protection from glare (5.4)"}
 #: Host name written into every suite: one fixed name, so that the file does not depend on the
 #: machine (the schema asks for 'localhost' where the host cannot be named; a batch on a cluster
 #: runs on many).

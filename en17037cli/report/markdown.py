@@ -1,6 +1,7 @@
 """``report.md``: the report as Markdown, for people (GitHub, pull-request comments)."""
 from __future__ import annotations
 
+from en17037cli.report.glare_text import glare_markdown, glare_parameters
 from en17037cli.report.labels import STATUS_LABEL, assessed, is_repair, unassessed
 from en17037cli.report.numbers import fmt_bound, fmt_duration
 from en17037cli.report.verdicts import limit_text
@@ -34,7 +35,8 @@ def dwellings_markdown(report: dict) -> list[str]:
 
 
 #: (criterion key, how the reports title it)
-CHECKS = (("daylight", "daylight provision (5.1)"), ("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)"))
+CHECKS = (("daylight", "daylight provision (5.1)"), ("view", "view out (5.2)"), ("sunlight", "exposure to sunlight (5.3)"),
+          ("glare", "protection from glare (5.4)"))
 
 
 def verdict_rows(report: dict) -> list[dict]:
@@ -48,7 +50,7 @@ def verdict_rows(report: dict) -> list[dict]:
                 continue
             u = unassessed(sec)
             limit = limit_text(key, sec) if not u else f"{u['reason']}"
-            if key in ("sunlight", "daylight") and assessed(sec) and sec["near_threshold"]:
+            if key in ("sunlight", "daylight", "glare") and assessed(sec) and sec.get("near_threshold"):
                 limit += " (within its error estimate of a threshold)"
             score = (sec.get("score") or {}).get("value")
             rows.append({"room": room["name"], "check": title, "reached": sec["level"] or "-", "required": sec["required"],
@@ -92,6 +94,7 @@ def parameter_lines(report: dict) -> list[str]:
               f"{d['reflectance']['ceiling']}, landscape {d['reflectance']['landscape']}, ground {d['reflectance']['ground']}; glazing "
               f"tv {d['glazing_transmittance']} (layer rules' values win); Radiance -ab {r['ab']} -ad {r['ad']} -as {r['as']} -lw {r['lw']}, "
               f"{r['replicates']} replicates per point."]
+    L += glare_parameters(cfg)
     t = cfg["thresholds"]
 
     def fmt(d):
@@ -207,6 +210,7 @@ def report_markdown(report: dict, figures=()) -> str:
         if d:
             L += ["", daylight_paragraph(d), ""] + _md_table(daylight_table(d)) + [""]
             L += [x for f in pics if f.section == "daylight" for x in (f"![{f.caption}]({f.name})", f"*{f.caption}*", "")]
+        L += glare_markdown(room, pics, _md_table)
     L += ["", "## Technical notes", ""]
     files = report["inputs"].get("model_files", {})
     if files:

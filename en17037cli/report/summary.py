@@ -24,7 +24,7 @@ COLUMNS = ("project", "variant", "room", "criterion", "level", "required", "stat
 #: Columns that hold wall times: the only ones that differ between runs of the same inputs.
 TIME_COLUMNS = ("time_s",)
 #: Criteria of a room, in report order.
-CRITERIA = ("view", "sunlight", "daylight")
+CRITERIA = ("view", "sunlight", "daylight", "glare")
 #: Status of a row that stands for a run that did not finish (bad input, internal error).
 ERROR = "error"
 #: The summary file's format, in ``summary.json``.

@@ -74,7 +74,7 @@ def rooms_csv(report: dict) -> str:
                 "margin_up", "margin_down"])
     blank = lambda v: "" if v is None else v  # noqa: E731
     for room in report["rooms"]:
-        for key in ("view", "sunlight", "daylight"):
+        for key in ("view", "sunlight", "daylight", "glare"):
             sec = room.get(key)
             if sec is None:
                 continue

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import datetime as dt
 
+from en17037cli.report.glare_text import glare_limit_text
 from en17037cli.report.labels import assessed
 from en17037cli.report.numbers import fmt_duration
 
@@ -67,4 +68,6 @@ def limit_text(criterion: str, section: dict | None) -> str:
         return ""
     if criterion == "daylight":
         return daylight_limit_text(s)
+    if criterion == "glare":
+        return glare_limit_text(s)
     return view_limit_text(s) if criterion == "view" else sunlight_limit_text(s)

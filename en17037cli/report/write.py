@@ -5,6 +5,7 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
+from en17037cli.criteria.glare.report import glare_hours_csv, glare_points_csv
 from en17037cli.report.folder import commit
 from en17037cli.report.html import report_html
 from en17037cli.report.markdown import report_markdown
@@ -23,6 +24,8 @@ WRITERS: dict[str, Callable[..., str]] = {
     "view_points.csv": lambda report, figures=(): view_points_csv(report),
     "sunlight_days.csv": lambda report, figures=(): sunlight_days_csv(report),
     "daylight_points.csv": lambda report, figures=(): daylight_points_csv(report),
+    "glare_points.csv": lambda report, figures=(): glare_points_csv(report),
+    "glare_hours.csv": lambda report, figures=(): glare_hours_csv(report),
     "rooms.csv": lambda report, figures=(): rooms_csv(report),
     "report.md": report_markdown,
     "report.html": report_html,

@@ -24,6 +24,13 @@ behind_member``           window's frame lies in front of P)
 ``daylight.radiance.ab``  3, 7 ambient bounces                                               daylight
 ``daylight.radiance.ad``  256, 1024 ambient divisions                                        daylight
 ``daylight.sky_subdiv``   Reinhart MF 2 (577 patches; method 2 only)                         daylight
+``glare.facade_distance`` auto positions 0.5 and 2.0 m from the glazing                     glare
+``glare.eye_height_m``    standing, 1.7 m                                                   glare
+``glare.directions``      towards the facade only, parallel to it only                      glare
+``glare.usage``           07:00-17:00, 09:00-19:00, every day                               glare
+``glare.low_light``       the DGP's low-light correction on                                 glare
+``glare.source_thresh``   1000 and 4000 cd/m² (evalglare's 2000 by default)                 glare
+``glare.sky_subdivision`` Reinhart MF 2                                                     glare
 ========================  ===============================================================  ============
 
 Choices that do not change what is traced (the date, the layer threshold, the eye heights) are
@@ -47,6 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli import standard
+from en17037cli.criteria.glare.sensitivity import GLARE_LABELS, GLARE_RANGES
 from en17037cli.criteria.view.scores import room_view_score, view_scores
 from en17037cli.standard import LEVELS
 
@@ -71,6 +79,7 @@ RANGES: dict[str, tuple] = {
     "daylight.radiance.ab": (3, 7),
     "daylight.radiance.ad": (256, 1024),
     "daylight.sky_subdivision": (2,),
+    **GLARE_RANGES,
 }
 #: How the tables and charts name each choice.
 LABELS = {"sunlight.date": "assessed date", "sunlight.point_p": "point P", "sunlight.point_p_behind_member": "P behind a member",
@@ -80,7 +89,7 @@ LABELS = {"sunlight.date": "assessed date", "sunlight.point_p": "point P", "sunl
           "view.grid_spacing_m": "grid spacing", "view.wall_margin_m": "wall margin",
           "view.mullions_block": "mullion reading", "daylight.aggregation": "aggregation order",
           "daylight.radiance.ab": "ambient bounces", "daylight.radiance.ad": "ambient divisions",
-          "daylight.sky_subdivision": "sky subdivision"}
+          "daylight.sky_subdivision": "sky subdivision", **GLARE_LABELS}
 #: P moves this far [m].
 P_SHIFT_M = 0.1
 
@@ -90,7 +99,7 @@ class Outcome:
     """One room and check under one choice value."""
 
     room: str
-    check: str  # "view" | "sunlight" | "daylight"
+    check: str  # "view" | "sunlight" | "daylight" | "glare"
     choice: str  # a key of RANGES, or "default"
     value: str
     level: int
@@ -101,7 +110,7 @@ def _fmt(v) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, tuple):
-        return " + ".join(f"{x:g} m" for x in v)
+        return " + ".join(f"{x:g} m" if isinstance(x, (int, float)) else str(x) for x in v)
     if isinstance(v, float):
         return f"{v:g}"
     return str(v)
@@ -217,7 +226,8 @@ def sensitivity(project_path: Path, out_dir: Path, overrides=(), log=print) -> d
                     out[room.name] = res
             return out
 
-        base = {name: assess(name, project) for name in CRITERIA if CRITERIA[name].settings(project) is not None}
+        base = {name: assess(name, project) for name in CRITERIA
+                if CRITERIA[name].settings(project) is not None and name != "glare"}  # glare: its own loop below
         t_base = time.perf_counter() - t0
         log(f"  the project's own settings: {t_base:.2f} s")
         view, sun = base.get("view", {}), base.get("sunlight", {})
@@ -295,6 +305,12 @@ def sensitivity(project_path: Path, out_dir: Path, overrides=(), log=print) -> d
                 for name, res in assess("daylight", dataclasses.replace(project, daylight=ds)).items():
                     outcomes.append(Outcome(name, "daylight", key, _fmt(value), *daylight_outcome(res)))
                 log(f"  {key} = {_fmt(value)}: {time.perf_counter() - t:.2f} s")
+        if project.glare is not None:
+            from en17037cli.criteria.glare.sensitivity import glare_outcomes
+
+            rows, glare_base_s = glare_outcomes(project, scene, engine, ranges, log)
+            outcomes += [Outcome(room, "glare", choice, value, level, score) for room, choice, value, level, score in rows]
+            t_base += glare_base_s  # the cost ratio measures against every check with the project's own settings
     total = time.perf_counter() - t0
     doc = summarise({room.name: room.spec.requirements for room in scene.rooms}, outcomes)
     doc["cost"] = {"base_s": round(t_base, 3), "total_s": round(total, 3), "ratio": round(total / max(t_base, 1e-9), 2)}

@@ -20,7 +20,10 @@ HERE = Path(__file__).resolve().parent
 SAMPLES = {
     "seed-office": "sample_projects/seed-office/project.yaml",
     "synthetic-street": "sample_projects/synthetic-street/project.yaml",
+    "seed-office-glare": "sample_projects/seed-office/project-glare.yaml",
 }
+#: Weather files the samples need that ``make samples`` writes (deterministic): sample -> (path, latitude, longitude)
+SAMPLE_WEATHER = {"seed-office-glare": ("sample_projects/seed-office/weather/delft-synthetic.epw", 52.0116, 4.3571)}
 #: box-room scenes of the tests: BoxRoom keyword arguments and box_room_project keyword arguments
 BOXES = {
     "box-reveal-mullions": ({"wall_thickness": 0.3, "mullions": [-0.35, 0.35], "depth": 5.0},
@@ -48,6 +51,12 @@ def normalise(name: str, text: str) -> str:
 def project_path(name: str, work: Path) -> Path:
     """The project file of scene ``name``; box rooms are written into ``work``."""
     if name in SAMPLES:
+        if name in SAMPLE_WEATHER and not (ROOT / SAMPLE_WEATHER[name][0]).is_file():
+            from en17037cli.samples.weather import synthetic_epw
+
+            path, lat, lon = SAMPLE_WEATHER[name]
+            (ROOT / path).parent.mkdir(parents=True, exist_ok=True)
+            synthetic_epw(ROOT / path, lat=lat, lon=lon)
         return ROOT / SAMPLES[name]
     from en17037cli.samples import BoxRoom, box_room_project
 

@@ -531,7 +531,7 @@ def test_package_exports_every_public_name_of_the_former_plots_module():
 
     expected = {
         "plan_map", "plan_rotation", "fisheye", "fisheye_xy", "fisheye_pixel_xy", "fisheye_directions", "fisheye_pixel",
-        "hours_chart", "tornado", "relative_luminance", "lightness", "continuous_colours", "layer_label", "fmt_duration",
+        "hours_chart", "tornado", "positions_map", "dgp_carpet", "luminance_fisheye", "relative_luminance", "lightness", "continuous_colours", "layer_label", "fmt_duration",
         "DPI", "PLAN_SIZE_IN", "FISHEYE_SIZE_IN", "CHART_SIZE_IN", "PLAN_BOX_PX", "COLOUR_BAR_PX", "FISHEYE_CENTRE_PX",
         "FISHEYE_RADIUS_PX", "LEVEL_COLOURS", "LEVEL_NAMES", "SKY", "LANDSCAPE", "GROUND", "LAYER_ORDER", "LAYER_COLOURS",
         "OUTSIDE", "BLOCKED", "CLASS_SKY", "CLASS_LANDSCAPE", "CLASS_GROUND", "CLASS_NAMES", "CLASS_COLOURS", "WINDOW_COLOUR",

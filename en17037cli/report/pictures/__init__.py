@@ -7,7 +7,8 @@ Nothing here traces rays or reads files: the callers pass the values, these modu
   colour bars, north arrow, scale bar);
 - :mod:`.plan`: plan maps of a room's viewpoints (:func:`plan_map`, :func:`plan_rotation`);
 - :mod:`.fisheye`: the fisheye from point P with the sun's paths and its projection;
-- :mod:`.charts`: the hours-of-sunlight chart and the tornado chart.
+- :mod:`.charts`: the hours-of-sunlight chart and the tornado chart;
+- :mod:`.glare`: clause 5.4's map of positions, hourly DGP carpet and fisheye luminance.
 
 Durations are written by :func:`en17037cli.report.numbers.fmt_duration`, re-exported here.
 matplotlib is imported inside the functions that draw, so this package imports without it.
@@ -53,12 +54,13 @@ from en17037cli.report.pictures.fisheye import (
     fisheye_pixel_xy,
     fisheye_xy,
 )
+from en17037cli.report.pictures.glare import dgp_carpet, luminance_fisheye, positions_map
 from en17037cli.report.pictures.plan import COLOUR_BAR_PX, PLAN_BOX_PX, PLAN_SIZE_IN, plan_map, plan_rotation
 
 __all__ = [
     # drawing
     "plan_map", "plan_rotation", "fisheye", "fisheye_xy", "fisheye_pixel_xy", "fisheye_directions", "fisheye_pixel",
-    "hours_chart", "tornado",
+    "hours_chart", "tornado", "positions_map", "dgp_carpet", "luminance_fisheye",
     # colours and numbers
     "relative_luminance", "lightness", "continuous_colours", "layer_label", "fmt_duration",
     # layout
