@@ -143,8 +143,8 @@ def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
     return out
 
 
-def blocked_within_wall(scene: Scene, engine: RayEngine, w, points: np.ndarray) -> tuple[float, str, str] | None:
-    """(distance [m], 'beyond' or 'in front of', element) where the straight rays from the glazing
+def blocked_within_wall(scene: Scene, engine: RayEngine, w, points: np.ndarray) -> tuple[float, str, object] | None:
+    """(distance [m], 'beyond' or 'in front of', the part hit most) where the straight rays from the glazing
     ``points`` (its outward normal, and back into the room) meet an opaque face within the wall's
     thickness of the glass: the host's depth on that side + 5 cm where the model names the host,
     at most :data:`~en17037cli.scene.uncut.WALL_DEPTH_M` (that alone where it names none); the
@@ -161,21 +161,28 @@ def blocked_within_wall(scene: Scene, engine: RayEngine, w, points: np.ndarray) 
         t = float(np.median(dist)) + 1e-3
         if t <= limit:
             hit = face[np.isfinite(dist)]
-            return t, side, describe_part(scene.parts[int(scene.part[np.bincount(hit).argmax()])])
+            return t, side, scene.parts[int(scene.part[np.bincount(hit).argmax()])]
     return None
 
 
-def withhold_blocked(scene: Scene, room, w, dist: float, side: str, element: str) -> str:
+def withhold_blocked(scene: Scene, room, w, dist: float, side: str, part) -> str:
     """Withhold ``room``'s verdict for its window ``w`` that no ray leaves through because of an
-    opaque face ``dist`` [m] ``side`` its glass, on ``element``: list it with the quarantined
-    elements; the warning."""
+    opaque face ``dist`` [m] ``side`` its glass, of ``part`` (a wall; or the window's own element:
+    an opaque panel over what was taken for its pane): list it with the quarantined elements; the
+    warning."""
     from en17037cli.scene.model import Quarantined
 
-    reason = (f"an opaque face of {element} lies {dist:.2f} m {side} its glazing, within its wall's thickness: the wall is "
-              "not cut for it (no opening), so no ray can pass")
-    advice = (f"an export with the opening cut through that wall gives the room its verdict; to assess the room without "
-              f"this window, add the layer rule {{id: '{w.key}', layer: interior}}" if w.key else
-              "cut the opening in that wall, or move the glazing out of it")
+    element = describe_part(part)
+    without = f"to assess the room without this window, add the layer rule {{id: '{w.key}', layer: interior}}"
+    if w.key is not None and part.attrs.get("id") == w.key:
+        reason = (f"an opaque part of its own element {element} lies {dist:.2f} m {side} its glazing: what was taken for its "
+                  "pane is covered by its own panel (a shutter, an opaque sash?), so no ray can pass")
+        advice = f"check the window's glass in the file (validate --objects lists its parts); {without}"
+    else:
+        reason = (f"an opaque face of {element} lies {dist:.2f} m {side} its glazing, within its wall's thickness: the wall "
+                  "is not cut for it (no opening), so no ray can pass")
+        advice = (f"an export with the opening cut through that wall gives the room its verdict; {without}" if w.key else
+                  "cut the opening in that wall, or move the glazing out of it")
     action = "kept as drawn (no ray passes); its room's verdict withheld"
     scene.quarantined.append(Quarantined(f"window '{w.name}'", action, reason, advice, (room.name,)))
     why = f"window '{w.name}' lets no ray through ({reason}); the room is assessed with it as drawn, and no verdict is given"

@@ -17,7 +17,9 @@ with ifcopenshell.api (:class:`en17037cli.samples.ifc.Builder`), 6 x 5 m inside 
 * ``lining``: ``cut``, with an uncut lining (IfcCovering) 3 cm thick on the wall's room-side face:
   not the window's host and not around its glass, so not cut; no ray passes within the wall's
   thickness: the room's verdict is withheld (never a FAIL resting on a modelling error) and the
-  window is listed with the quarantined elements.
+  window is listed with the quarantined elements;
+* ``shutter``: ``cut``, the window's own element holding an opaque panel 1 cm beyond its glass (an
+  ArchiCAD 9 window): withheld too, the reason naming the window's own panel, not its wall.
 """
 from __future__ import annotations
 
@@ -67,6 +69,16 @@ def house(path: Path, case: str) -> Path:
     room = b.space("R1", "Room", st, [(0.3, 0.3), (6.3, 0.3), (6.3, 5.3), (0.3, 5.3)], 0.0, 2.7)
     if case in ("cut", "neighbour", "lining"):
         b.window("W", st, walls[0], CENTRE, S, X, 1.2, 1.2, spaces=[room])
+    elif case == "shutter":  # the window's own opaque panel 1 cm beyond its glass's outer face
+        from en17037cli.samples.ifc import FRAME_DEPTH_M, GLASS_M
+
+        w = b.window("W", st, walls[0], CENTRE, S, X, 1.2, 1.2, spaces=[room])
+        rep = w.Representation.Representations[0]
+        glass_y = 0.02 + FRAME_DEPTH_M / 2 - GLASS_M / 2
+        panel = b.plate(np.array([(-0.55, -0.55), (0.55, -0.55), (0.55, 0.55), (-0.55, 0.55)]), [],
+                        (CENTRE[0], glass_y - 0.01, CENTRE[2]), X, Z, (0, -1, 0), 0.005)
+        rep.Items = list(rep.Items) + [panel]
+        b.api.run("style.assign_item_style", b.f, item=panel, style=b.styles["frame"])
     elif case == "uncut":
         glazed(b, st, "W")
     elif case == "shallow":  # the opening from the outer face 12 cm into the wall: the window's frame fits in it
@@ -144,3 +156,12 @@ def test_a_window_blocked_within_its_walls_thickness_withholds_the_verdict(tmp_p
     assert "verdict withheld" in q["action"] and "layer: interior}" in q["advice"]
     # the lining's face lies 2 cm + 3.7 cm + ... : the glass (outer face) 5.7 cm into the 30 cm wall, the lining at its room face
     assert f"lies {0.3 - 0.057:.2f} m in front of its glazing" in q["reason"]
+
+
+def test_a_window_covered_by_its_own_panel_withholds_the_verdict_naming_it(tmp_path):
+    code, rep = check(project(tmp_path, "shutter"), tmp_path / "out")
+    sun = rep["rooms"][0]["sunlight"]
+    assert code == 1 and sun["status"] == "not_assessable"
+    (q,) = rep["quarantined"]
+    assert "its own element IfcWindow 'W'" in q["reason"] and "lies 0.01 m beyond its glazing" in q["reason"]
+    assert "wall" not in q["reason"]
