@@ -19,7 +19,7 @@ from en17037cli.geometry import window_axes
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import Scene, room_window_group
-from en17037cli.scene.windows import glazing_grid
+from en17037cli.scene.windows import describe_part, glazing_grid
 
 #: Default budget: viewpoints of a run (all rooms and eye heights). A viewpoint's results take
 #: about 10 kB in memory and in report.json, so this keeps a check within about 2 GB.
@@ -115,7 +115,13 @@ def check_budget(project: Project, scene: Scene, max_points: int) -> tuple[int, 
 
 def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
     """Warnings for windows through which no ray from the room leaves: rays from 0.3, 1 and 2 m
-    inside the room, straight and at 30 degrees, through points spread over the glazing."""
+    inside the room, straight and at 30 degrees, through points spread over the glazing.
+
+    What stops them is told apart (:func:`blocked_within_wall`): an opaque face within the wall's
+    thickness of the glass (a wall the file does not cut for the window, which the scene's cut did
+    not recognise) withholds the room's verdict: a FAIL of 0 h there would rest on a modelling
+    error; the window is listed with the quarantined elements. An obstruction farther out (a
+    neighbour's wall) is a legitimate 0 h: the warning says what it is and how far it lies."""
     from en17037cli.criteria.view.rays import BLOCKED, ViewRays
 
     view_rays = ViewRays(engine, scene)
@@ -131,11 +137,69 @@ def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
             o = (targets[:, None, None, :] - np.array([0.3, 1.0, 2.0])[None, :, None, None] * dirs[None, None, :, :]).reshape(-1, 3)
             d = np.broadcast_to(dirs[None, None], (len(targets), 3, 5, 3)).reshape(-1, 3)
             cls = view_rays.through_windows(room_window_group(room), o, np.ascontiguousarray(d))[0]
-            if len(cls) and np.all(cls == BLOCKED):
-                out.append(f"room '{room.name}', window '{w.name}': no ray from the room leaves through it (an opaque face "
-                           "lies between the room and the glazing, or beyond it: a wall with no opening cut?); it adds no view "
-                           "and no sun")
+            if not len(cls) or not np.all(cls == BLOCKED):
+                continue
+            first = f"room '{room.name}', window '{w.name}': no ray from the room leaves through it"
+            wall = blocked_within_wall(scene, engine, w, targets)
+            if wall is not None:
+                out.append(f"{first} (an opaque face lies between the room and the glazing, or beyond it: a wall with no "
+                           "opening cut?); it adds no view and no sun")
+                out.append(withhold_blocked(scene, room, w, *wall))
+                continue
+            face, dist = engine.first_hit("opaque", targets + 1e-3 * n, np.broadcast_to(n, targets.shape).copy())
+            hit = face[np.isfinite(dist)]
+            what = describe_part(scene.parts[int(scene.part[np.bincount(hit).argmax()])]) if len(hit) else None
+            where = (f"the nearest opaque face straight beyond its glazing, on {what}, lies {float(np.median(dist)):.1f} m out"
+                     if what and np.isfinite(np.median(dist)) else "what stops the rays lies beyond its wall's thickness")
+            out.append(f"{first}: {where} (an obstruction, not a wall left uncut); it adds no view and no sun as drawn")
     return out
+
+
+def blocked_within_wall(scene: Scene, engine: RayEngine, w, points: np.ndarray) -> tuple[float, str, object] | None:
+    """(distance [m], 'beyond' or 'in front of', the part hit most) where the straight rays from the glazing
+    ``points`` (its outward normal, and back into the room) meet an opaque face within the wall's
+    thickness of the glass: the host's depth on that side + 5 cm where the model names the host,
+    at most :data:`~en17037cli.scene.uncut.WALL_DEPTH_M` (that alone where it names none); the
+    median over the points. None elsewhere."""
+    from en17037cli.scene.hosts import host_depths
+    from en17037cli.scene.uncut import WALL_DEPTH_M
+
+    n = np.asarray(w.normal, float)
+    depths = host_depths(scene, w) if w.host else None
+    limits = (WALL_DEPTH_M, WALL_DEPTH_M) if depths is None else \
+        (min(depths[0] + 0.05, WALL_DEPTH_M), min(depths[1] + 0.05, WALL_DEPTH_M))
+    for sign, limit, side in ((1.0, limits[0], "beyond"), (-1.0, limits[1], "in front of")):
+        face, dist = engine.first_hit("opaque", points + sign * 1e-3 * n, np.broadcast_to(sign * n, points.shape).copy())
+        t = float(np.median(dist)) + 1e-3
+        if t <= limit:
+            hit = face[np.isfinite(dist)]
+            return t, side, scene.parts[int(scene.part[np.bincount(hit).argmax()])]
+    return None
+
+
+def withhold_blocked(scene: Scene, room, w, dist: float, side: str, part) -> str:
+    """Withhold ``room``'s verdict for its window ``w`` that no ray leaves through because of an
+    opaque face ``dist`` [m] ``side`` its glass, of ``part`` (a wall; or the window's own element:
+    an opaque panel over what was taken for its pane): list it with the quarantined elements; the
+    warning."""
+    from en17037cli.scene.model import Quarantined
+
+    element = describe_part(part)
+    without = f"to assess the room without this window, add the layer rule {{id: '{w.key}', layer: interior}}"
+    if w.key is not None and part.attrs.get("id") == w.key:
+        reason = (f"an opaque part of its own element {element} lies {dist:.2f} m {side} its glazing: what was taken for its "
+                  "pane is covered by its own panel (a shutter, an opaque sash?), so no ray can pass")
+        advice = f"check the window's glass in the file (validate --objects lists its parts); {without}"
+    else:
+        reason = (f"an opaque face of {element} lies {dist:.2f} m {side} its glazing, within its wall's thickness: the wall "
+                  "is not cut for it (no opening), so no ray can pass")
+        advice = (f"an export with the opening cut through that wall gives the room its verdict; {without}" if w.key else
+                  "cut the opening in that wall, or move the glazing out of it")
+    action = "kept as drawn (no ray passes); its room's verdict withheld"
+    scene.quarantined.append(Quarantined(f"window '{w.name}'", action, reason, advice, (room.name,)))
+    why = f"window '{w.name}' lets no ray through ({reason}); the room is assessed with it as drawn, and no verdict is given"
+    room.withheld = why if room.withheld is None else f"{room.withheld}; {why}"
+    return f"quarantined: window '{w.name}': {reason}: {action}; room '{room.name}' assessed, no verdict; {advice}"
 
 
 def layer_warnings(scene: Scene) -> list[str]:

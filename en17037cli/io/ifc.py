@@ -55,17 +55,24 @@ from en17037cli.io.ifc_glazing import (
     GLAZED,
     OPAQUE_TRANSPARENCY,
     assemblies,
-    frame_opening_panes,
     glass_by_style,
     hosts,
     is_default_material,
     opaque_by_style,
-    pane_faces,
-    principal_normal,
 )
 from en17037cli.io.ifc_site import apply_map, map_conversion, site_of
 from en17037cli.io.ifc_spaces import read_spaces, storey_of
-from en17037cli.io.ifc_step import as_ifc2x3, check_all_read, repair_derived_markers
+from en17037cli.io.ifc_step import open_ifc
+from en17037cli.io.ifc_windows import (
+    PANE_MIN_OUTLINE_SHARE,
+    host_normal,
+    openings_of,
+    overall_size,
+    panes_from_geometry,
+    panes_of_bare_windows,
+    placement_axes,
+    window_plane,
+)
 from en17037cli.io.mesh import Mesh, Part
 
 #: Classes not tessellated at all.
@@ -75,56 +82,6 @@ IGNORED = ("IfcSpace", "IfcOpeningElement", "IfcAnnotation", "IfcGrid", "IfcVirt
 DEFAULT_LAYER = {"IfcSite": "ground", "IfcBuildingElementProxy": "landscape", "IfcGeographicElement": "landscape"}
 #: Elements without geometry whose ifcopenshell error is looked up (one shape each) and named.
 MAX_GEOMETRY_ERRORS = 20
-
-
-def _open(path: Path) -> tuple[object, list[str]]:
-    """The ifcopenshell file of ``path`` and notes on what was repaired before reading it."""
-    try:
-        import ifcopenshell  # noqa: F401  (the extra is named before anything is read)
-    except ImportError:
-        raise InputError(f"{path}: reading IFC needs ifcopenshell: pip install 'en17037cli[ifc]'") from None
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read model file: {exc.strerror}") from None
-    if not data[:64].lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"ISO-10303-21"):
-        raise InputError(f"{path}: not an IFC file (no ISO-10303-21 header); export the model as IFC (STEP)")
-    notes = []
-    data, older = as_ifc2x3(data)
-    if older:
-        notes.append(f"{path.name}: schema {older} (before IFC2X3), read as IFC2X3, which kept its classes: check "
-                     "validate's spaces and windows; ask for an IFC2X3 or IFC4 export if some are missing")
-    try:
-        f = _read(path, data, changed=bool(older))
-    except Exception as exc:  # ifcopenshell raises its own error types for broken STEP
-        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise InputError(f"{path}: cannot read the IFC file ({msg}); ask for an IFC2X3 or IFC4 export of the model") from None
-    if f.schema not in ("IFC2X3", "IFC4", "IFC4X3", "IFC4X3_ADD2"):
-        raise InputError(f"{path}: IFC schema {f.schema} is not read; ask for an IFC2X3, IFC4 or IFC4X3 export of the model")
-    check_all_read(path, data, f)
-    fixed, count, entities = repair_derived_markers(data, f.schema)
-    if count:
-        f = _read(path, fixed, changed=True)
-        names = ", ".join(sorted(entities)[:4]) + (" ..." if len(entities) > 4 else "")
-        notes.append(f"{path.name}: {count} attribute(s) written '*' (derived) where the schema stores a value read as "
-                     f"unset ('$'), in {names}: not valid STEP (ISO 10303-21 12.2.2); without this ifcopenshell leaves "
-                     "those elements out")
-    return f, notes
-
-
-def _read(path: Path, data: bytes, changed: bool):
-    """ifcopenshell's file of ``path``, or of ``data`` where the text was changed before reading
-    (ifcopenshell reads files: the changed text goes through a temporary one)."""
-    import ifcopenshell
-
-    if not changed:
-        return ifcopenshell.open(str(path))
-    import tempfile
-
-    with tempfile.TemporaryDirectory(prefix="en17037-ifc-") as tmp:
-        p = Path(tmp) / "repaired.ifc"
-        p.write_bytes(data)
-        return ifcopenshell.open(str(p))
 
 
 def default_layer(product, glazing: bool) -> str:
@@ -215,20 +172,14 @@ def _in_schema(f, cls: str) -> bool:
     return True
 
 
-def host_normal(tri: np.ndarray, near: np.ndarray) -> np.ndarray | None:
-    """(3,) normal of the host's faces around a window (the wall's plane), from the host's
-    triangles ``tri`` (k, 3, 3) [m] whose bounding boxes reach within 0.5 m of the window's
-    bounding box ``near`` (2, 3) [m]; area-weighted, so the wall's faces outweigh its reveals."""
-    lo, hi = near[0] - 0.5, near[1] + 0.5
-    close = np.all((tri.min(axis=1) <= hi) & (tri.max(axis=1) >= lo), axis=1)
-    return principal_normal(tri[close]) if close.any() else None
-
-
 class _Builder:
     """The parts of a model, product by product, and what the reader says about them."""
 
-    def __init__(self, f, path: Path):
-        self.path = path
+    def __init__(self, f, path: Path, place=None):
+        import ifcopenshell.util.unit as ifc_unit
+
+        self.path, self.place = path, place or (lambda v: v)
+        self.unit_m = float(ifc_unit.calculate_unit_scale(f))
         self.host_of, self.assembly_of = hosts(f), assemblies(f)
         self.members: dict[str, list[str]] = {}  # an assembly's pieces: a roof's slabs hold its skylights
         for part, (whole, _) in self.assembly_of.items():
@@ -242,6 +193,9 @@ class _Builder:
         self.panes_in_openings: list[str] = []
         self.plates_as_glass: list[str] = []
         self.left_out: list[tuple[str, str]] = []
+        self.planes_not_hosts: list[str] = []  # windows whose host's faces lie in another plane than their own
+        self.panes_of_openings: list[str] = []  # windows with no geometry: a pane from their opening
+        self.bare: list[tuple[object, str]] = []  # windows with no geometry and no opening to stand for them
 
     def add(self, product, v, faces, mids, materials, by_id) -> None:
         """One product's faces as parts: one per surface style, or glazing and frame where the
@@ -270,14 +224,14 @@ class _Builder:
             self.left_out.append((label(product), f"its surface style ({', '.join(names)}) has transparency {t:g}: a panel, "
                                   "not glass; taken as opaque"))
         elif product.is_a("IfcWindow"):
-            normal = None
+            hn = None
             hv = [by_id[x] for h in host for x in (h, *self.members.get(h, ())) if x in by_id]
             if hv:
-                box = np.array([v.min(axis=0), v.max(axis=0)])
-                normal = host_normal(np.concatenate([hv_v[hv_f] for hv_v, hv_f in hv]), box)
-            normal = principal_normal(v[faces]) if normal is None else normal
-            glass = pane_faces(v, faces, normal)
-            opening = None if glass.any() else frame_opening_panes(v, faces, normal)
+                hn = host_normal(np.concatenate([hv_v[hv_f] for hv_v, hv_f in hv]), np.array([v.min(axis=0), v.max(axis=0)]))
+            plane = window_plane(v, faces, placement_axes(product, self.place), overall_size(product, self.unit_m), hn)
+            if plane.host_disagrees:
+                self.planes_not_hosts.append(f"{label(product)} ({plane.how})")
+            glass, opening, share = panes_from_geometry(v, faces, plane.normal)
             if opening is not None:  # frames only: the pane fills what they leave open
                 n0 = len(v)
                 v = np.concatenate([v, opening.reshape(-1, 3)])
@@ -287,6 +241,10 @@ class _Builder:
                 self.panes_in_openings.append(label(product))
             elif glass.any():
                 self.panes_from_geometry.append(label(product))
+            elif share > 0:
+                self.left_out.append((label(product), f"no transparent style, no material named like glass, and its only thin "
+                                      f"plates in its plane cover {share:.0%} of its outline (frame members, not glass; "
+                                      f"a pane covers at least {PANE_MIN_OUTLINE_SHARE:.0%}): taken as opaque"))
             else:
                 self.left_out.append((label(product), "no transparent style, no material named like glass, and no thin "
                                       "pane in its geometry: taken as opaque"))
@@ -312,9 +270,26 @@ class _Builder:
         self.verts.append(v)
         self.offset += len(v)
 
+    def add_pane(self, product, tri: np.ndarray, host: tuple[str, ...]) -> None:
+        """An unglazed pane ``tri`` (k, 3, 3) [m] for an IfcWindow the file gives no geometry (its opening's outline)."""
+        self.parts.append(Part({**_attrs(product), "surface": "glazing"}, layer="window", window=product.GlobalId, host=host))
+        self.tris.append(np.arange(3 * len(tri)).reshape(-1, 3) + self.offset)
+        self.pidx.append(np.full(len(tri), len(self.parts) - 1))
+        self.verts.append(tri.reshape(-1, 3))
+        self.offset += 3 * len(tri)
+        self.panes_of_openings.append(label(product))
+
     def messages(self, missing) -> tuple[list[str], list[str]]:
         name = self.path.name
         warnings, notes = [], []
+        if self.panes_of_openings:
+            notes.append(f"{name}: {len(self.panes_of_openings)} IfcWindow(s) with no geometry whose IfcOpeningElement is "
+                         "cut in a wall: each taken as an unglazed pane filling its opening, at the wall's mid-plane (no "
+                         "frame: the glazed area is the opening's, larger than the glass would be): "
+                         f"{_listed(self.panes_of_openings)}")
+        if self.bare:
+            warnings.append(f"{name}: {len(self.bare)} IfcWindow(s) with no geometry and no opening to stand for them, left "
+                            f"out: {_listed([label(w) for w, _ in self.bare])}; their rooms are assessed without them")
         if self.panes_from_geometry:
             notes.append(f"{name}: {len(self.panes_from_geometry)} IfcWindow(s) with no transparent style or glass name: "
                          "their panes taken from their geometry (the thin plates in the wall's plane): "
@@ -323,6 +298,10 @@ class _Builder:
             notes.append(f"{name}: {len(self.panes_in_openings)} IfcWindow(s) modelled as frames only (no glass, no "
                          "transparent style): a pane put in each opening their frames leave, in the middle of their "
                          f"depth: {_listed(self.panes_in_openings)}")
+        if self.planes_not_hosts:
+            notes.append(f"{name}: {len(self.planes_not_hosts)} IfcWindow(s) whose host's faces around them lie in another "
+                         "plane (a lintel, a slab): each pane's plane taken from the window itself: "
+                         f"{_listed(self.planes_not_hosts)}")
         if self.plates_as_glass:
             notes.append(f"{name}: {len(self.plates_as_glass)} IfcPlate(s) of curtain walls with no surface style of their "
                          f"own taken as glass: {_listed(self.plates_as_glass)}")
@@ -352,7 +331,7 @@ def _listed(names: list[str], n: int = 5) -> str:
 def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read an IFC file: products as parts by class and style, spaces, site (see the module docstring)."""
     options = options or ReadOptions()
-    f, notes = _open(path)
+    f, notes = open_ifc(path)
     m = map_conversion(f)
 
     def place(v: np.ndarray) -> np.ndarray:
@@ -369,9 +348,20 @@ def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
         raise InputError(f"{path}: no product with geometry in the IFC file; export the model with its 3D geometry")
     missing = without_geometry(f, {s[0].id() for s in shapes}, excluded)
     by_id = {p.GlobalId: (v, faces) for p, v, faces, _, _ in shapes}
-    b = _Builder(f, path)
+    b = _Builder(f, path, place)
     for shape in sorted(shapes, key=lambda s: s[0].id()):  # file order: the iterator's order depends on its threads
         b.add(*shape, by_id)
+    read = {s[0].id() for s in shapes}
+    bare = [w for w in f.by_type("IfcWindow") if w.id() not in read and w.GlobalId not in excluded]
+    if bare:  # an IfcWindow with no geometry: its opening stands for it
+        ops = [op for w in bare for op in openings_of(w)]
+        panes, left = panes_of_bare_windows(bare, ((p, v, fc) for p, v, fc, _, _ in _iterate(f, include=ops)) if ops else (),
+                                              by_id, b.host_of, place, b.unit_m)
+        for w, tri, host in sorted(panes, key=lambda p: p[0].id()):
+            b.add_pane(w, tri, host)
+        placed = {w.id() for w, _, _ in panes}
+        b.bare = [(w, why) for w, why in left if w.Representation is None]  # the others: in ``missing`` already
+        missing = [(p, why) for p, why in missing if p.id() not in placed]
     warnings, more = b.messages(missing)
     if m is not None:
         notes.append(f"{path.name}: placed by its IfcMapConversion ({m[6] or 'map CRS'})")
@@ -380,4 +370,4 @@ def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
     unread = [(label(p), f"no geometry from ifcopenshell ({why})") for p, why in missing if any(p.is_a(c) for c in GLAZED)]
     return Mesh(np.concatenate(b.verts), np.concatenate(b.tris), np.concatenate(b.pidx), b.parts, warnings, notes + more,
                 units="m", up_axis="z", site=site_of(f, path, m), spaces=read_spaces(f, space_shapes, place),
-                windows_left_out=b.left_out + unread)
+                windows_left_out=b.left_out + unread + [(label(w), why) for w, why in b.bare])

@@ -7,7 +7,8 @@ semantics, in this order:
 2. where no style says (none, or ifcopenshell's default material), a style or material named like
    glass (:data:`GLASS_WORDS`);
 3. an IfcWindow with neither: its pane from its geometry (:func:`pane_faces`): the thin plates
-   parallel to the wall its opening is cut in, never faces whose style says they are nearly opaque
+   in the window's own plane (:func:`~en17037cli.io.ifc_windows.window_plane`; its host only
+   confirms), never faces whose style says they are nearly opaque
    (a transparency below :data:`OPAQUE_TRANSPARENCY`: an opal or spandrel panel that the file
    calls a window is a panel, not glass);
 4. an IfcPlate of an IfcCurtainWall with no style of its own: glass (curtain-wall infill).

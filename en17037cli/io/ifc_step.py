@@ -114,3 +114,53 @@ def as_ifc2x3(data: bytes) -> tuple[bytes, str | None]:
     if m is None or m.group(1).upper() not in OLDER_SCHEMAS:
         return data, None
     return data[:m.start(1)] + b"IFC2X3" + data[m.end(1):], m.group(1).decode("ascii")
+
+
+def open_ifc(path: Path) -> tuple[object, list[str]]:
+    """The ifcopenshell file of ``path`` and notes on what was repaired before reading it."""
+    try:
+        import ifcopenshell  # noqa: F401  (the extra is named before anything is read)
+    except ImportError:
+        raise InputError(f"{path}: reading IFC needs ifcopenshell: pip install 'en17037cli[ifc]'") from None
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read model file: {exc.strerror}") from None
+    if not data[:64].lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"ISO-10303-21"):
+        raise InputError(f"{path}: not an IFC file (no ISO-10303-21 header); export the model as IFC (STEP)")
+    notes = []
+    data, older = as_ifc2x3(data)
+    if older:
+        notes.append(f"{path.name}: schema {older} (before IFC2X3), read as IFC2X3, which kept its classes: check "
+                     "validate's spaces and windows; ask for an IFC2X3 or IFC4 export if some are missing")
+    try:
+        f = read_ifc_file(path, data, changed=bool(older))
+    except Exception as exc:  # ifcopenshell raises its own error types for broken STEP
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise InputError(f"{path}: cannot read the IFC file ({msg}); ask for an IFC2X3 or IFC4 export of the model") from None
+    if f.schema not in ("IFC2X3", "IFC4", "IFC4X3", "IFC4X3_ADD2"):
+        raise InputError(f"{path}: IFC schema {f.schema} is not read; ask for an IFC2X3, IFC4 or IFC4X3 export of the model")
+    check_all_read(path, data, f)
+    fixed, count, entities = repair_derived_markers(data, f.schema)
+    if count:
+        f = read_ifc_file(path, fixed, changed=True)
+        names = ", ".join(sorted(entities)[:4]) + (" ..." if len(entities) > 4 else "")
+        notes.append(f"{path.name}: {count} attribute(s) written '*' (derived) where the schema stores a value read as "
+                     f"unset ('$'), in {names}: not valid STEP (ISO 10303-21 12.2.2); without this ifcopenshell leaves "
+                     "those elements out")
+    return f, notes
+
+
+def read_ifc_file(path: Path, data: bytes, changed: bool):
+    """ifcopenshell's file of ``path``, or of ``data`` where the text was changed before reading
+    (ifcopenshell reads files: the changed text goes through a temporary one)."""
+    import ifcopenshell
+
+    if not changed:
+        return ifcopenshell.open(str(path))
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="en17037-ifc-") as tmp:
+        p = Path(tmp) / "repaired.ifc"
+        p.write_bytes(data)
+        return ifcopenshell.open(str(p))

@@ -90,6 +90,10 @@ def read_file(i: int, spec: ModelFile, model: ModelSettings, where: str, options
     part_layer, part_sun, unmatched = assign_layers(spec, mesh, f"{where}: model.files[{i}]", spec.path.stem)
     if mesh.openings_drawn:
         mesh = _cut_drawn_openings(mesh, part_layer, UNIT_SCALE_M[units], spec.display)
+    if any(p.window for p in mesh.parts):  # keyed windows (IFC) set in walls the file does not cut
+        from en17037cli.scene.uncut import cut_uncut_walls
+
+        mesh = cut_uncut_walls(mesh, part_layer, WINDOW, UNIT_SCALE_M[units], spec.display)
     verts = transformed(to_metres_z_up(mesh.vertices, units, up), spec.transform)
     if spec.units or mesh.units is None:  # the project gives the unit: is the model plausible in it?
         from en17037cli.scene.units import check_units

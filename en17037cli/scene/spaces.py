@@ -17,8 +17,10 @@ does not open into that space.
 The model's own space boundaries (``Space.windows``: IfcRelSpaceBoundary) confirm and settle:
 where a window opens into several spaces by geometry and the boundaries name some of them, those
 are its spaces; where the geometry finds none within the host's depth but a boundary names a space
-within ``window_margin_m``, that space has it. Boundaries never remove a window the geometry gives
-(they are often incomplete). A window in no space is listed by ``validate`` with the reason.
+within ``window_margin_m``, that space has it; where nothing else places the window (its rays enter
+the space farther away, or not at all: a space drawn beside it), the spaces the boundaries name
+have it, with a note. Boundaries never remove a window the geometry gives (they are often
+incomplete). A window in no space is listed by ``validate`` with the reason.
 
 A reader's :class:`Space` needs: ``id`` (unique), ``name`` / ``long_name`` (reports), ``footprint``
 (and ``holes``) in the mesh frame [m] with ``floor_z`` and ``top_z``, or ``problem`` saying why it
@@ -63,6 +65,8 @@ class WindowSpaces:
     open_depth: dict[int, float] = field(default_factory=dict)
     #: space -> [m] how far from the glazing its rays enter it (negative: the glazing lies inside it)
     distance: dict[int, float] = field(default_factory=dict)
+    #: a note for the report where only the model's space boundaries place the window, else ""
+    note: str = ""
 
 
 def room_name(space: Space) -> str:
@@ -233,6 +237,19 @@ def _match_one(scene: Scene, w: Window, cand: list[int], bodies: list, named: se
                            "the room's floor and windows)"))
     if res.spaces:
         return res
+    for j, i in enumerate(cand):  # the file's own link where no ray enters the space at all (drawn beside the window)
+        if i in named and i not in found:
+            body = bodies[j].reshape(-1, 3)
+            side = 1.0 if (body.mean(axis=0) - w.centroid) @ n >= 0 else -1.0
+            gap = float(np.linalg.norm(np.maximum(0.0, np.maximum(body.min(axis=0) - w.triangles.reshape(-1, 3).max(axis=0),
+                                                                 w.triangles.reshape(-1, 3).min(axis=0) - body.max(axis=0)))))
+            res.spaces.append((i, -side * n, f"named by the model's space boundaries, though none of its rays enters the space "
+                               f"as drawn (its volume lies {gap:.2f} m from the window, beside the glazing's normal): check "
+                               "the room's floor and windows"))
+            res.note = (f"window '{w.name}': in '{room_name(spaces[i])}', the space the model's boundaries name, though no ray "
+                        f"from its glazing enters that space as drawn ({gap:.2f} m away); nothing else places it")
+    if res.spaces:
+        return res
     if found:
         i, (side, share, dist, allowed) = min(found.items(), key=lambda kv: kv[1][2])
         res.why = (f"the nearest space, '{room_name(spaces[i])}', lies {dist:.2f} m from its glazing, more than the "
@@ -272,6 +289,7 @@ def _how_far(dist: float) -> str:
 def _space_windows(scene: Scene, margin_m: float) -> list[WindowSpaces]:
     if scene.space_windows is None:
         scene.space_windows = match_windows(scene, margin_m)
+        scene.notes.extend(m.note for m in scene.space_windows if m.note)
     return scene.space_windows  # type: ignore[return-value]
 
 
