@@ -73,6 +73,28 @@ def test_epw_reader_and_median(tmp_path):
     assert w.diffuse_lx[hours].min() >= np.sort(w.diffuse_lx)[::-1][4379]
 
 
+def test_epw_start_day(tmp_path):
+    # the synthetic year 2026 starts on a Thursday (1 January 2026, by the calendar) and its header says so
+    path = synthetic_epw(tmp_path / "s.epw")
+    lines = path.read_text().splitlines()
+    assert lines[7] == "DATA PERIODS,1,1,Data,Thursday, 1/ 1,12/31"
+    w = read_epw(path)
+    assert w.start_weekday == 3 and w.weekday_note is None
+    # a header naming another day for rows of one calendar year is read as written and noted
+    lines[7] = "DATA PERIODS,1,1,Data,Sunday, 1/ 1,12/31"
+    path.write_text("\n".join(lines) + "\n")
+    w = read_epw(path)
+    assert w.start_weekday == 6 and "Sunday" in w.weekday_note and "2026-01-01, is a Thursday" in w.weekday_note
+    # a typical year stitched from months of different years (1986 January, ...) has no calendar to check against
+    real = read_epw(REAL_EPW)
+    assert real.start_weekday == 6 and real.weekday_note is None
+    assert real.place == "Chicago Ohare Intl Ap, IL, USA" and real.median_diffuse_lx() == 15900.0
+
+
+REAL_EPW = __import__("pathlib").Path(__file__).resolve().parents[1] / "sample_projects" / "weather" / \
+    "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
+
+
 def test_epw_errors(tmp_path):
     from en17037cli.errors import InputError
 
@@ -80,6 +102,12 @@ def test_epw_errors(tmp_path):
     p.write_text("not,an,epw\n")
     with pytest.raises(InputError, match="not an EPW weather file"):
         read_epw(p)
+    lines = synthetic_epw(tmp_path / "s.epw").read_text().splitlines()
+    for bad, message in (("DATA PERIODS,1,4,Data,Thursday, 1/ 1,12/31", "4 records per hour"),
+                         ("DATA PERIODS,1,1,Data,Thorsday, 1/ 1,12/31", "'Thorsday' is not a day of the week")):
+        p.write_text("\n".join(lines[:7] + [bad] + lines[8:]) + "\n")
+        with pytest.raises(InputError, match=message):
+            read_epw(p)
 
 
 def _project(tmp_path, daylight: dict, **box):
