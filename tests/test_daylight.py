@@ -125,7 +125,7 @@ def test_daylight_section_errors(tmp_path):
     path = _project(tmp_path, {})
     r = CliRunner().invoke(cli, ["validate", str(path)])
     assert r.exit_code == 2 and "daylight.median_diffuse_lx" in r.output
-    path = _project(tmp_path, {"median_diffuse_lx": 14000, "radiance": {"ad": 8}})
+    path = _project(tmp_path, {"median_diffuse_lx": 14000, "radiance": {"ad": 0}})
     r = CliRunner().invoke(cli, ["validate", str(path)])
     assert r.exit_code == 2 and "daylight.radiance.ad" in r.output
 

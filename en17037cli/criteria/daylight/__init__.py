@@ -1,10 +1,13 @@
 """EN 17037 clause 5.1, Daylight provision: the reference plane's daylight factor (method 1) or its
-hourly illuminance over the daylight hours (method 2), with Radiance through pyradiance.
+hourly illuminance over the daylight hours (method 2), split as the standard's method splits it:
 
-* the scene as Radiance geometry and the runs: :mod:`.radiance`; the CIE overcast sky and the sky
-  component by our own integral: :mod:`.sky`; the weather: :mod:`en17037cli.weather.epw`
-* method 1: :func:`.assess.daylight_factor_room`; method 2: :mod:`.climate`
-* per room: :mod:`.assess` into :mod:`.results`; report section: :mod:`.report`
+* the sky component (light straight from the sky through the glazing), exact, with a bound:
+  :mod:`.sky_component` (the view engine's exact visibility and refinement, the CIE overcast
+  luminance and the glazing's angular transmittance of :mod:`.sky`);
+* the externally and internally reflected components on Radiance (pyradiance), with a statistical
+  interval: :mod:`.gather` (the scene as Radiance geometry and the runs: :mod:`.radiance`);
+* method 1: :func:`.assess.daylight_factor_room`; method 2: :mod:`.climate`; the weather:
+  :mod:`en17037cli.weather.epw`; per room into :mod:`.results`; report section: :mod:`.report`
 
 pyradiance is imported only when a project has a ``daylight`` section and the check runs.
 """
@@ -17,6 +20,7 @@ from en17037cli.criteria.daylight.assess import daylight_factor_room, reference_
 from en17037cli.criteria.daylight.results import DaylightResult
 from en17037cli.errors import InputError, NotAssessable
 from en17037cli.project.settings import DaylightSettings, Project
+from en17037cli.scene.model import room_window_group
 
 #: Horizontal illuminance of the overcast sky the daylight factors are computed under [lx]
 #: (any value: D is a ratio; 10 klx keeps Radiance's numbers near 1).
@@ -36,7 +40,7 @@ class DaylightCriterion(Criterion):
         return ctx.project.daylight
 
     def ray_groups(self, scene):
-        return []  # Radiance traces its own rays
+        return [room_window_group(r) for r in scene.rooms] + ["opaque"]  # the sky component's visibility
 
     def check_inputs(self, ctx: Context) -> dict[str, str]:
         from en17037cli.criteria.daylight.radiance import binpath
@@ -91,28 +95,52 @@ class DaylightCriterion(Criterion):
             refl = dict(s.reflectance)
             t = time.perf_counter()
             scene = radiance.scene_text(ctx.scene, refl, s.glazing_transmittance, black=kind == "black")
+            files = None
             if kind == "overcast":
-                sky = radiance.overcast_sky_text(SKY_LX, refl["ground"])
+                sky, files = radiance.cie_overcast_sky_text(SKY_LX, refl["ground"]), radiance.sky_files()
             else:
                 from en17037cli.criteria.daylight.climate import patch_sky_text
 
                 sky = patch_sky_text()
-            ctx.cache[key] = radiance.Octree(scene, sky)
+            ctx.cache[key] = radiance.Octree(scene, sky, files=files)
             ctx.cache.setdefault("daylight_build_s", 0.0)
             ctx.cache["daylight_build_s"] += time.perf_counter() - t
         return ctx.cache[key]
+
+    def sky(self, ctx: Context, room, points):
+        """The sky component of ``points`` (p, 3) [m, local] through ``room``'s windows (:mod:`.sky_component`)."""
+        from en17037cli.criteria.daylight.sky_component import SkyTolerance, sky_component, window_transmittance
+        from en17037cli.criteria.view.frames import room_geometry
+        from en17037cli.criteria.view.rays import ViewRays
+
+        s = self._settings(ctx)
+        c = s.sky_component
+        tol = SkyTolerance(c.resolution_deg, c.refine_levels, c.rel_tolerance, c.abs_tolerance_pct / 100.0)
+        rg = room_geometry(ctx.scene, room, tol.frame_depth_m)
+        tv = window_transmittance(ctx.scene, room, dict(s.reflectance), s.glazing_transmittance)
+        return sky_component(ViewRays(ctx.engine, ctx.scene), rg, points, tv, tol)
+
+    def reflected(self, ctx: Context, room, points):
+        """The reflected components at ``points`` on Radiance (:mod:`.gather`)."""
+        from en17037cli.criteria.daylight.gather import GatherSettings, reflected, sampling_frame
+
+        p = self._settings(ctx).radiance
+        gs = GatherSettings(p.rays, p.max_rays, p.rel_tolerance, p.abs_tolerance_pct / 100.0, p.ab, p.ad, p.lw)
+        return reflected(self.octree(ctx), points, SKY_LX, gs, sampling_frame(room.windows[0].normal))
 
     def assess(self, ctx: Context, room, plan, progress=None) -> DaylightResult:
         s = self._settings(ctx)
         median, source = self.median(ctx)
         p = s.radiance
-        params = {"ab": p.ab, "ad": p.ad, "as": p.as_, "lw": p.lw, "replicates": p.replicates}
+        params = {"ab": p.ab, "ad": p.ad, "as": p.as_, "lw": p.lw, "rays": p.rays, "max_rays": p.max_rays,
+                  "rel_tolerance": p.rel_tolerance, "abs_tolerance_pct": p.abs_tolerance_pct}
         t = time.perf_counter()
         if s.method == "daylight_factor":
-            from en17037cli.criteria.daylight.radiance import irradiance
-
-            e = irradiance(self.octree(ctx), plan, p.ab, p.ad, p.as_, p.lw, p.replicates)
-            res = daylight_factor_room(plan, e, SKY_LX, median, source, ctx.project.thresholds, params)
+            sc = self.sky(ctx, room, plan)
+            t_sky = time.perf_counter() - t
+            refl = self.reflected(ctx, room, plan)
+            res = daylight_factor_room(plan, sc, refl, median, source, ctx.project.thresholds, params)
+            res.radiance["sky_time_s"] = t_sky
         else:
             from en17037cli.criteria.daylight.climate import climate_room
 
