@@ -201,6 +201,7 @@ class RadianceParams:
     max_rays: int = 4096
     rel_tolerance: float = 0.05
     abs_tolerance_pct: float = 0.01
+    window_rays: int = 1
 
 
 @dataclass(frozen=True)
@@ -317,7 +318,8 @@ def daylight_settings(d: dict, directory: Path) -> DaylightSettings:
         reflectance=tuple((k, float(v)) for k, v in d["reflectance"].items()),
         radiance=RadianceParams(ab=int(rp["ab"]), ad=int(rp["ad"]), as_=int(rp["as"]), lw=float(rp["lw"]),
                                 replicates=int(rp["replicates"]), rays=int(rp["rays"]), max_rays=int(rp["max_rays"]),
-                                rel_tolerance=float(rp["rel_tolerance"]), abs_tolerance_pct=float(rp["abs_tolerance_pct"])),
+                                rel_tolerance=float(rp["rel_tolerance"]), abs_tolerance_pct=float(rp["abs_tolerance_pct"]),
+                                window_rays=int(rp["window_rays"])),
         grid_offset=float(d.get("grid_offset", 0.0)),
         sky_component=_sky_component_settings(d.get("sky_component", {})))
 

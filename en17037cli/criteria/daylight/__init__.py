@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
+
 from en17037cli.criteria.base import Context, Criterion
 from en17037cli.criteria.daylight.assess import daylight_factor_room, reference_plane
 from en17037cli.criteria.daylight.results import DaylightResult
@@ -99,34 +101,62 @@ class DaylightCriterion(Criterion):
             if kind == "overcast":
                 sky, files = radiance.cie_overcast_sky_text(SKY_LX, refl["ground"]), radiance.sky_files()
             else:
-                from en17037cli.criteria.daylight.climate import patch_sky_text
+                from en17037cli.criteria.daylight.climate import patch_sky_text, sink_point
 
-                sky = patch_sky_text()
+                sky = patch_sky_text(sink_point(ctx.scene))
             ctx.cache[key] = radiance.Octree(scene, sky, files=files)
             ctx.cache.setdefault("daylight_build_s", 0.0)
             ctx.cache["daylight_build_s"] += time.perf_counter() - t
         return ctx.cache[key]
 
-    def sky(self, ctx: Context, room, points):
-        """The sky component of ``points`` (p, 3) [m, local] through ``room``'s windows (:mod:`.sky_component`)."""
-        from en17037cli.criteria.daylight.sky_component import SkyTolerance, sky_component, window_transmittance
+    def sky(self, ctx: Context, room, points, bins=None, nbins: int = 0):
+        """The sky component of ``points`` (p, 3) [m, local] through ``room``'s windows (:mod:`.sky_component`;
+        ``bins``, ``nbins``: also per sky patch)."""
+        from en17037cli.criteria.daylight.sky_component import SkyTolerance, sky_component
         from en17037cli.criteria.view.frames import room_geometry
         from en17037cli.criteria.view.rays import ViewRays
 
-        s = self._settings(ctx)
-        c = s.sky_component
+        c = self._settings(ctx).sky_component
         tol = SkyTolerance(c.resolution_deg, c.refine_levels, c.rel_tolerance, c.abs_tolerance_pct / 100.0)
         rg = room_geometry(ctx.scene, room, tol.frame_depth_m)
-        tv = window_transmittance(ctx.scene, room, dict(s.reflectance), s.glazing_transmittance)
-        return sky_component(ViewRays(ctx.engine, ctx.scene), rg, points, tv, tol)
+        return sky_component(ViewRays(ctx.engine, ctx.scene), rg, points, self.window_tv(ctx, room), tol,
+                             bins=bins, nbins=nbins)
+
+    def window_tv(self, ctx: Context, room):
+        """(windows,) transmittance of each of ``room``'s windows (:func:`.sky_component.window_transmittance`)."""
+        from en17037cli.criteria.daylight.sky_component import window_transmittance
+
+        s = self._settings(ctx)
+        return window_transmittance(ctx.scene, room, dict(s.reflectance), s.glazing_transmittance)
+
 
     def reflected(self, ctx: Context, room, points):
-        """The reflected components at ``points`` on Radiance (:mod:`.gather`)."""
-        from en17037cli.criteria.daylight.gather import GatherSettings, reflected, sampling_frame
+        """The reflected components at ``points``: light paths with next-event estimation through the
+        room's windows, what is outside from Radiance (:mod:`.transport`, :func:`.gather.reflected_paths`)."""
+        from en17037cli.criteria.daylight.gather import reflected_paths, sampling_frame
+
+        return reflected_paths(self.paths_scene(ctx, room), self.octree(ctx), points, SKY_LX, self.gather_settings(ctx),
+                               sampling_frame(room.windows[0].normal))
+
+    def gather_settings(self, ctx: Context):
+        from en17037cli.criteria.daylight.gather import GatherSettings
 
         p = self._settings(ctx).radiance
-        gs = GatherSettings(p.rays, p.max_rays, p.rel_tolerance, p.abs_tolerance_pct / 100.0, p.ab, p.ad, p.lw)
-        return reflected(self.octree(ctx), points, SKY_LX, gs, sampling_frame(room.windows[0].normal))
+        return GatherSettings(p.rays, p.max_rays, p.rel_tolerance, p.abs_tolerance_pct / 100.0, p.ab, p.ad, p.lw,
+                              p.window_rays)
+
+    def paths_scene(self, ctx: Context, room):
+        """The light paths' view of the scene for ``room`` (:class:`.transport.Scene`)."""
+        from en17037cli.criteria.daylight import radiance
+        from en17037cli.criteria.daylight.transport import Scene
+        from en17037cli.criteria.view.frames import window_frame
+
+        s = self._settings(ctx)
+        kind, value = radiance.face_optics(ctx.scene, dict(s.reflectance), s.glazing_transmittance)
+        rho = np.where(kind == 5, 0.0, value)
+        tv = np.where(kind == 5, value, 0.0)
+        return Scene(ctx.engine, ctx.scene, room, rho, tv, [window_frame(w, i) for i, w in enumerate(room.windows)],
+                     s.radiance.window_rays)
 
     def assess(self, ctx: Context, room, plan, progress=None) -> DaylightResult:
         s = self._settings(ctx)
@@ -144,7 +174,7 @@ class DaylightCriterion(Criterion):
         else:
             from en17037cli.criteria.daylight.climate import climate_room
 
-            res = climate_room(self, ctx, plan, s, median, source, params)
+            res = climate_room(self, ctx, room, plan, s, median, source, params)
         res.radiance["time_s"] = time.perf_counter() - t
         if progress:
             progress(len(plan))

@@ -25,8 +25,11 @@ standard deviation bounds the standard error of the mean from above for the stra
 spread between strata is counted as if it were noise); the interval is z(0.995) s / sqrt(N), a 99 %
 interval, so that at least 95 % of a plane's points are covered, not only on average. Adaptive:
 after a first round of ``rays`` directions per point, a point whose interval is wider than
-max(``rel_tolerance`` R, ``abs_tolerance``) gets as many new directions again (a new stratified
-round), until it is within or has ``max_rays``.
+max(``rel_tolerance`` R, ``abs_tolerance``), or fewer of whose samples than :data:`MIN_LIT` saw
+any reflected light, gets as many new directions again (a new stratified round), until it is within
+or has ``max_rays``; a point left with fewer lit samples than that gets an interval of at least
+Y_MAX (3 sqrt(k + 1) + 3) / N (k lit of N: a Poisson 99.5 % upper bound on k, each at the largest
+value a sample can take, :data:`Y_MAX`): 0 lit samples of 4096 is at most 0.15 % D.
 
 References: P. Shirley, K. Chiu (1997), A low distortion map between disk and square, J. Graphics
 Tools 2(3); G. Ward (1994), The RADIANCE lighting simulation and rendering system, SIGGRAPH
@@ -47,6 +50,14 @@ Z995 = 2.5758293035489004
 SKY_DISTANCE_M = 0.99e10
 #: Seed of the first round's jitter (each round and point draws its own stream from it).
 SEED = 17037
+#: A point's interval is trusted once at least this many of its samples saw reflected light: with
+#: fewer (a dark room lit by one bright surface, whose light a ray finds rarely), the samples' spread
+#: says little about the mean's, so more rays are traced (up to ``max_rays``).
+MIN_LIT = 30
+#: The largest value one sample can take [-]: a surface's luminance times π over the unobstructed
+#: horizontal illuminance, its reflectance (at most 1) times its illuminance relative to the
+#: unobstructed sky's (at most 1 under an overcast sky for any surface a room sees).
+Y_MAX = 1.0
 
 
 @dataclass(frozen=True)
@@ -61,6 +72,8 @@ class GatherSettings:
     ab : Radiance's limit of diffuse bounces (with Russian roulette below the weight ``lw``)
     ad : hemisphere samples Radiance takes at each diffuse hit (1: one path per ray)
     lw : weight below which Russian roulette decides whether a path goes on
+    window_rays : directions per window a path's bounce sends through the glazing (next-event
+        estimation, :mod:`.transport`)
     """
 
     rays: int = 256
@@ -70,6 +83,7 @@ class GatherSettings:
     ab: int = 12
     ad: int = 1
     lw: float = 0.05
+    window_rays: int = 1
 
 
 @dataclass
@@ -127,7 +141,7 @@ def reflected(octree, points: np.ndarray, sky_lx: float, s: GatherSettings, fram
     on an unobstructed horizontal plane.
     """
     p = len(points)
-    total, sq, count = np.zeros(p), np.zeros(p), np.zeros(p)
+    total, sq, count, lit = np.zeros(p), np.zeros(p), np.zeros(p), np.zeros(p)
     if not p:
         return Reflected(total, total.copy(), count.astype(int))
     todo = np.arange(p)
@@ -146,13 +160,70 @@ def reflected(octree, points: np.ndarray, sky_lx: float, s: GatherSettings, fram
         total[todo] += y.sum(axis=1)
         sq[todo] += (y * y).sum(axis=1)
         count[todo] += k
+        lit[todo] += (y > 0).sum(axis=1)
         mean = total[todo] / count[todo]
         var = np.maximum(sq[todo] / count[todo] - mean * mean, 0.0) * count[todo] / np.maximum(count[todo] - 1, 1)
         half = Z995 * np.sqrt(var / count[todo])
-        done = (half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)) | (2 * count[todo] > s.max_rays)
+        done = ((half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)) & ((lit[todo] >= MIN_LIT) | (lit[todo] == count[todo]))
+                | (2 * count[todo] > s.max_rays))
         todo = todo[~done]
         n = int(round(np.sqrt(count[todo].max()))) if len(todo) else n  # as many again: n x n new strata
         rnd += 1
     mean = total / count
     var = np.maximum(sq / count - mean * mean, 0.0) * count / np.maximum(count - 1, 1)
-    return Reflected(mean, Z995 * np.sqrt(var / count), count.astype(int))
+    half = Z995 * np.sqrt(var / count)
+    # few lit samples: at least what a Poisson 99.5 % upper bound on their count allows, at Y_MAX each
+    few = (lit < MIN_LIT) & (lit < count)
+    half = np.where(few, np.maximum(half, Y_MAX * (3.0 * np.sqrt(lit + 1.0) + 3.0) / count), half)
+    return Reflected(mean, half, count.astype(int))
+
+
+def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSettings, frame: np.ndarray) -> Reflected:
+    """The reflected part at horizontal ``points`` (p, 3) [m, local] by light paths with next-event
+    estimation through the room's windows (:mod:`.transport`: ``S`` its scene), the luminance of what
+    is outside from Radiance (``octree``: the scene under the CIE overcast sky giving ``sky_lx`` on
+    an unobstructed horizontal plane). Rounds, intervals and their rules as :func:`reflected`'s,
+    with one path per direction."""
+    from en17037cli.criteria.daylight.transport import trace_paths
+
+    p = len(points)
+    total, sq, count, lit = np.zeros(p), np.zeros(p), np.zeros(p), np.zeros(p)
+    if not p:
+        return Reflected(total, total.copy(), count.astype(int))
+    todo = np.arange(p)
+    n = max(1, int(round(np.sqrt(s.rays))))
+    rnd = 0
+    args = rtrace_args(s)
+    while len(todo):  # a few rounds; each one rtrace call for every point still to do
+        rng = np.random.default_rng([SEED, rnd])
+        k = n * n
+        dirs = cosine_directions(len(todo), n, rng, frame).reshape(-1, 3)
+        y, req, touched = trace_paths(S, np.repeat(points[todo], k, axis=0), dirs, S.window_rays, [SEED, rnd, 1])
+        o, d, w, path = req.arrays()
+        if len(o):
+            value, _, _ = radiance.trace(octree, o, d, args)
+            y += np.bincount(path, w * value / sky_lx, len(y))
+        y = y.reshape(len(todo), k)
+        total[todo] += y.sum(axis=1)
+        sq[todo] += (y * y).sum(axis=1)
+        count[todo] += k
+        lit[todo] += touched.reshape(len(todo), k).sum(axis=1)
+        mean = total[todo] / count[todo]
+        var = np.maximum(sq[todo] / count[todo] - mean * mean, 0.0) * count[todo] / np.maximum(count[todo] - 1, 1)
+        half = Z995 * np.sqrt(var / count[todo])
+        trusted = (lit[todo] >= MIN_LIT) | (lit[todo] == 0)
+        done = ((half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)) & trusted) | (2 * count[todo] > s.max_rays)
+        todo = todo[~done]
+        n = int(round(np.sqrt(count[todo].max()))) if len(todo) else n
+        rnd += 1
+    return _result(total, sq, count, lit)
+
+
+def _result(total, sq, count, lit) -> Reflected:
+    """Means and 99 % intervals of the samples' sums (see the module docstring)."""
+    mean = total / count
+    var = np.maximum(sq / count - mean * mean, 0.0) * count / np.maximum(count - 1, 1)
+    half = Z995 * np.sqrt(var / count)
+    few = (lit < MIN_LIT) & (lit > 0)
+    half = np.where(few, np.maximum(half, Y_MAX * (3.0 * np.sqrt(lit + 1.0) + 3.0) / count), half)
+    return Reflected(mean, half, count.astype(int))

@@ -164,3 +164,27 @@ def transmittance_table(tv: float) -> tuple[np.ndarray, np.ndarray, float]:
     mid = 0.5 * (c[1:] + c[:-1])
     err = 2.0 * float(np.max(np.abs(glass_transmittance(mid, tv) - 0.5 * (t[1:] + t[:-1]))))
     return c, t, err
+
+
+def glass_reflectance(cos_i, tv) -> np.ndarray:
+    """Reflectance of Radiance's ``glass`` at incidence cos i, given its normal transmittance tv (the
+    same pane as :func:`glass_transmittance`): with d = tn^(1 / cos t),
+    ρ = ½ r_s (1 + (1 - 2 r_s) d²) / (1 - r_s² d²) + ½ r_p (1 + (1 - 2 r_p) d²) / (1 - r_p² d²);
+    0 for an open opening (tv at least :data:`OPEN_TV`).
+
+    References
+    ----------
+    Radiance ``src/rt/glass.c`` (``m_glass``: the reflected ray's coefficient).
+    """
+    from en17037cli.criteria.daylight.radiance import glass_transmissivity
+
+    c = np.clip(np.asarray(cos_i, dtype=float), 1e-9, 1.0)
+    tv = np.asarray(tv, dtype=float)
+    n = GLASS_INDEX
+    tn = np.clip(glass_transmissivity(np.where(tv >= OPEN_TV, 0.5, tv)), 1e-15, 1.0)
+    cos_t = np.sqrt((1.0 - 1.0 / (n * n)) + c * c / (n * n))
+    d2 = (tn ** (1.0 / cos_t)) ** 2
+    rs = ((c - n * cos_t) / (c + n * cos_t)) ** 2
+    rp = ((1.0 / c - n / cos_t) / (1.0 / c + n / cos_t)) ** 2
+    rho = 0.5 * rs * (1 + (1 - 2 * rs) * d2) / (1 - rs * rs * d2) + 0.5 * rp * (1 + (1 - 2 * rp) * d2) / (1 - rp * rp * d2)
+    return np.where(tv >= OPEN_TV, 0.0, rho)

@@ -70,6 +70,9 @@ class SkyComponent:
     value: np.ndarray
     bound: np.ndarray
     cells: np.ndarray
+    #: (p, bins) [sr]: ∫ cos θ τ(i) dω of the sky seen through the glazing in each bin of directions
+    #: (a sky patch), when asked for: the direct daylight coefficients of unit-radiance patches
+    patches: np.ndarray | None = None
 
 
 def _integrand(axes: np.ndarray, tv: np.ndarray, X: np.ndarray, Y: np.ndarray, normal: np.ndarray):
@@ -128,7 +131,7 @@ def cell_integrals(axes: np.ndarray, tv: np.ndarray, G: np.ndarray, normal=(0.0,
 
 
 def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv: np.ndarray,
-                  tol: SkyTolerance = SkyTolerance(), normal=(0.0, 0.0, 1.0)) -> SkyComponent:
+                  tol: SkyTolerance = SkyTolerance(), normal=(0.0, 0.0, 1.0), bins=None, nbins: int = 0) -> SkyComponent:
     """The sky component of ``points`` (p, 3) [m, local] through the room's windows (see the module
     docstring), as a fraction of the unobstructed horizontal illuminance under the CIE overcast sky.
 
@@ -136,13 +139,17 @@ def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv:
     ----------
     tv : (windows,) normal-hemispherical transmittance of each window of ``rg`` (1: open)
     normal : the receiving plane's unit normal (+z: the reference plane)
+    bins : optional, a function of unit directions (m, 3) giving their bin (0 .. nbins - 1, -1: none):
+        the cells' integrals of cos θ τ(i) (unit radiance) are also summed per bin, each quadrature
+        node into the bin of its direction (:attr:`SkyComponent.patches`)
     """
     p = len(points)
     value, bound = np.zeros(p), np.zeros(p)
     ncell = np.zeros(p, dtype=int)
+    binned = np.zeros((p, nbins)) if bins is not None else None
     P = patches(rg, points, np.radians(tol.resolution_deg))
     if not len(P.pt):
-        return SkyComponent(value, bound, ncell)
+        return SkyComponent(value, bound, ncell, binned)
     sample = Sampler(view_rays, rg, points, P, False)
     cells = _base_cells(sample, P)
     tv = np.asarray(tv, float)
@@ -185,10 +192,41 @@ def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv:
         value -= np.bincount(pi[split], (share * f)[split], p)
         bound += np.bincount(pi[~split], own[~split], p)
         ncell += np.bincount(pi[~split], minlength=p)
+        if binned is not None:
+            fin = np.flatnonzero(~split & (share > 0))
+            binned += _node_bins(axes, tv, P, cells, fin, share[fin], bins, nbins, np.asarray(normal, float), p)
         if not split.any():
             break
         cells = _split(sample, cells.take(split))
-    return SkyComponent(value * SC_PER_SR, bound * SC_PER_SR, ncell)
+    return SkyComponent(value * SC_PER_SR, bound * SC_PER_SR, ncell, binned)
+
+
+def _node_bins(axes, tv, P, cells, fin, share, bins, nbins: int, normal, p: int) -> np.ndarray:
+    """(p, nbins) [sr]: the unit-radiance integrals cos θ τ(i) dω of cells ``fin`` (times their sky
+    ``share``), each of their 3 x 3 Gauss nodes put in the bin of its direction."""
+    out = np.zeros(p * nbins)
+    if not len(fin):
+        return out.reshape(p, nbins)
+    G = cells.G[fin]
+    win = P.win[cells.patch[fin]]
+    ha, hb = 0.5 * (G[:, 1] - G[:, 0]), 0.5 * (G[:, 3] - G[:, 2])
+    X = np.tan(0.5 * (G[:, 0] + G[:, 1])[:, None] + ha[:, None] * _GX[None])
+    Y = np.tan(0.5 * (G[:, 2] + G[:, 3])[:, None] + hb[:, None] * _GX[None])
+    ax = axes[win]
+    g, jac = _integrand(ax, tv[win], X, Y, normal)
+    s = np.sqrt(1.0 + X[:, :, None] ** 2 + Y[:, None, :] ** 2)
+    d = (X[:, :, None, None] * ax[:, None, None, 0] + Y[:, None, :, None] * ax[:, None, None, 1] + ax[:, None, None, 2]) / s[..., None]
+    lum = (1.0 + 2.0 * np.maximum(d[..., 2], 0.0)) / 3.0
+    w = g / lum * jac * _WEIGHTS[None] * (ha * hb)[:, None, None]  # unit radiance
+    part = ~cells.full[fin]
+    if part.any():  # cut by a window outline that is not a rectangle: scaled to the part inside
+        rect = _rect_solid_angle(G)
+        w = np.where(part[:, None, None], w * (cells.w[fin] / np.maximum(rect, 1e-300))[:, None, None], w)
+    b = bins(d.reshape(-1, 3))
+    pt = np.repeat(P.pt[cells.patch[fin]], 9)
+    ok = b >= 0
+    out += np.bincount(pt[ok] * nbins + b[ok], (w * share[:, None, None]).ravel()[ok], p * nbins)
+    return out.reshape(p, nbins)
 
 
 def _rect_solid_angle(G: np.ndarray) -> np.ndarray:
