@@ -189,8 +189,9 @@ class RadianceParams:
     ``max_rays`` at most, until the 99 % interval is within max(``rel_tolerance`` x R,
     ``abs_tolerance_pct`` [% D]); Radiance's ambient parameters at each hit (see ``rtrace(1)``):
     bounce limit ``ab``, hemisphere samples ``ad``, super-samples ``as``, the Russian-roulette
-    weight ``lw``; ``replicates``: independent estimates of the daylight coefficients (method 2),
-    whose spread gives the error of the shares of hours."""
+    weight ``lw``; ``window_rays``: directions per window a path's bounce sends through the glazing;
+    ``replicates`` independent sets of ``climate_rays`` paths per point give method 2's daylight
+    coefficients, their spread the error of the shares of hours."""
 
     ab: int = 12
     ad: int = 1
@@ -202,6 +203,7 @@ class RadianceParams:
     rel_tolerance: float = 0.05
     abs_tolerance_pct: float = 0.01
     window_rays: int = 1
+    climate_rays: int = 1024
 
 
 @dataclass(frozen=True)
@@ -319,7 +321,7 @@ def daylight_settings(d: dict, directory: Path) -> DaylightSettings:
         radiance=RadianceParams(ab=int(rp["ab"]), ad=int(rp["ad"]), as_=int(rp["as"]), lw=float(rp["lw"]),
                                 replicates=int(rp["replicates"]), rays=int(rp["rays"]), max_rays=int(rp["max_rays"]),
                                 rel_tolerance=float(rp["rel_tolerance"]), abs_tolerance_pct=float(rp["abs_tolerance_pct"]),
-                                window_rays=int(rp["window_rays"])),
+                                window_rays=int(rp["window_rays"]), climate_rays=int(rp["climate_rays"])),
         grid_offset=float(d.get("grid_offset", 0.0)),
         sky_component=_sky_component_settings(d.get("sky_component", {})))
 

@@ -91,23 +91,39 @@ class DaylightCriterion(Criterion):
         """The scene with its sky, compiled once per run (``overcast``, ``sky`` patches, ``black``)."""
         key = f"daylight_octree_{kind}"
         if key not in ctx.cache:
-            from en17037cli.criteria.daylight import radiance
-
-            s = self._settings(ctx)
-            refl = dict(s.reflectance)
-            t = time.perf_counter()
-            scene = radiance.scene_text(ctx.scene, refl, s.glazing_transmittance, black=kind == "black")
-            files = None
-            if kind == "overcast":
-                sky, files = radiance.cie_overcast_sky_text(SKY_LX, refl["ground"]), radiance.sky_files()
-            else:
-                from en17037cli.criteria.daylight.climate import patch_sky_text, sink_point
-
-                sky = patch_sky_text(sink_point(ctx.scene))
-            ctx.cache[key] = radiance.Octree(scene, sky, files=files)
-            ctx.cache.setdefault("daylight_build_s", 0.0)
-            ctx.cache["daylight_build_s"] += time.perf_counter() - t
+            pending = ctx.cache.pop(f"{key}_pending", None)  # started by :meth:`octree_soon`
+            ctx.cache[key] = pending.result() if pending is not None else self._build_octree(ctx, kind)
         return ctx.cache[key]
+
+    def octree_soon(self, ctx: Context, kind: str = "overcast") -> None:
+        """Start compiling :meth:`octree` in a thread (``oconv`` runs while Python integrates the sky
+        component); :meth:`octree` waits for it."""
+        key = f"daylight_octree_{kind}"
+        if key in ctx.cache or f"{key}_pending" in ctx.cache:
+            return
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(1)
+        ctx.cache[f"{key}_pending"] = pool.submit(self._build_octree, ctx, kind)
+        pool.shutdown(wait=False)
+
+    def _build_octree(self, ctx: Context, kind: str):
+        from en17037cli.criteria.daylight import radiance
+
+        s = self._settings(ctx)
+        refl = dict(s.reflectance)
+        t = time.perf_counter()
+        scene = radiance.scene_text(ctx.scene, refl, s.glazing_transmittance, black=kind == "black")
+        files = None
+        if kind == "overcast":
+            sky, files = radiance.cie_overcast_sky_text(SKY_LX, refl["ground"]), radiance.sky_files()
+        else:
+            from en17037cli.criteria.daylight.climate import patch_sky_text, sink_point
+
+            sky = patch_sky_text(sink_point(ctx.scene))
+        octree = radiance.Octree(scene, sky, files=files)
+        ctx.cache["daylight_build_s"] = ctx.cache.get("daylight_build_s", 0.0) + time.perf_counter() - t
+        return octree
 
     def sky(self, ctx: Context, room, points, bins=None, nbins: int = 0):
         """The sky component of ``points`` (p, 3) [m, local] through ``room``'s windows (:mod:`.sky_component`;
@@ -136,7 +152,7 @@ class DaylightCriterion(Criterion):
         from en17037cli.criteria.daylight.gather import reflected_paths, sampling_frame
 
         return reflected_paths(self.paths_scene(ctx, room), self.octree(ctx), points, SKY_LX, self.gather_settings(ctx),
-                               sampling_frame(room.windows[0].normal))
+                               sampling_frame(room.windows[0].normal), ctx.engine.threads)
 
     def gather_settings(self, ctx: Context):
         from en17037cli.criteria.daylight.gather import GatherSettings
@@ -166,6 +182,7 @@ class DaylightCriterion(Criterion):
                   "rel_tolerance": p.rel_tolerance, "abs_tolerance_pct": p.abs_tolerance_pct}
         t = time.perf_counter()
         if s.method == "daylight_factor":
+            self.octree_soon(ctx)
             sc = self.sky(ctx, room, plan)
             t_sky = time.perf_counter() - t
             refl = self.reflected(ctx, room, plan)

@@ -15,9 +15,9 @@ E(p, h) = Σ_k C_k(p) S_sky,k(h) + E_sun(p, h) + Σ_k R_k(p) S_all,k(h)
   from ``rcontrib`` per patch (Russian roulette); S_all: ``gendaymtx`` with the sun in its patches
   (reflected sunlight, smooth).
 
-Each of ``daylight.radiance.replicates`` gathers has its own directions (max(``rays``, ``max_rays`` /
-replicates) per point): the shares of hours are computed per replicate, and their means and 95 %
-intervals reported (the direct parts are exact and the same in every replicate). The hours are the daylight hours of EN 17037 (the 4380 with the
+Each of ``daylight.radiance.replicates`` sets of paths (``climate_rays`` per point) has its own
+directions: the shares of hours are computed per replicate, and their means and 95 % intervals
+reported (the direct parts are exact and the same in every replicate). The hours are the daylight hours of EN 17037 (the 4380 with the
 highest diffuse horizontal illuminance, :meth:`~en17037cli.weather.epw.Weather.daylight_hours`).
 
 References: A. McNeil (2013), The five-phase method for simulating complex fenestration with
@@ -160,7 +160,7 @@ def path_coefficients(S, octree, points: np.ndarray, mf: int, rays: int, replica
     o, dd, w, path = req.arrays()
     if len(o):
         o, dd, w0, owner_of = _equal_weights(o, dd, w, owner(path), rng)
-        dc += w0 * _record_sums(octree, o, dd, owner_of, len(points), mf, args, sink)
+        dc += w0 * _record_sums(octree, o, dd, owner_of, len(points), mf, args, sink, S.engine.threads)
     return dc / k
 
 
@@ -176,7 +176,7 @@ def _equal_weights(o, d, w, point, rng):
     return o[idx], d[idx], w0, point[idx]
 
 
-def _record_sums(octree, o, d, point, n: int, mf: int, args: list[str], sink: np.ndarray) -> np.ndarray:
+def _record_sums(octree, o, d, point, n: int, mf: int, args: list[str], sink: np.ndarray, processes: int = 1) -> np.ndarray:
     """(n, bins) per point, the sum over its rays of what ``rcontrib`` gives each patch (gendaymtx's
     order), in records of :data:`RECORD` rays (``-c``: a record is their mean), each point's last
     record filled with rays that start inside a black sphere at ``sink`` (:func:`sink_point`)."""
@@ -190,8 +190,22 @@ def _record_sums(octree, o, d, point, n: int, mf: int, args: list[str], sink: np
     orig[pos], dirs[pos] = o, d
     cmd = ["rcontrib", "-h", "-fdd", "-c", str(RECORD), *args, "-f", "reinhartb.cal", "-e", f"MF:{mf}", "-b", "rbin",
            "-bn", "Nrbins", "-m", "skyglow", "-b", "0", "-bn", "1", "-m", "groundglow", octree.path.name]
-    raw = np.frombuffer(radiance.run(cmd, np.ascontiguousarray(np.column_stack([orig, dirs]), dtype=np.float64).tobytes(),
-                                     cwd=octree.dir), dtype=np.float64).reshape(-1, width, 3)
+    rays_in = np.ascontiguousarray(np.column_stack([orig, dirs]), dtype=np.float64).reshape(-1, RECORD, 6)
+    # contiguous shares of the records, as many whatever the machine's cores (each program's own random
+    # sequence: the same shares give the same numbers), run up to ``processes`` at once
+    parts = np.array_split(np.arange(len(rays_in)), max(1, min(8, len(rays_in) // 64)))
+
+    def one(idx):
+        return radiance.run(cmd, rays_in[idx].tobytes(), cwd=octree.dir)
+
+    if len(parts) > 1 and processes > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(min(processes, len(parts))) as pool:
+            out_raw = b"".join(pool.map(one, parts))
+    else:
+        out_raw = b"".join(one(idx) for idx in parts)
+    raw = np.frombuffer(out_raw, dtype=np.float64).reshape(-1, width, 3)
     c = RECORD * (raw @ radiance.RGB_WEIGHTS)  # the sum of each record's rays
     c = np.column_stack([c[:, width - 1:], c[:, :width - 1]])
     out = np.zeros((n, width))
@@ -233,9 +247,8 @@ def climate_room(criterion, ctx, room, points: np.ndarray, settings: DaylightSet
     args = rtrace_args(criterion.gather_settings(ctx))
     frame = sampling_frame(room.windows[0].normal)
     per_rep = []
-    rays = max(p.rays, p.max_rays // p.replicates)  # per point and replicate
     for r in range(p.replicates):  # a few path sets per room, each for every point
-        dc = path_coefficients(S, octree, points, mf, rays, r, args, frame, sink_point(ctx.scene))
+        dc = path_coefficients(S, octree, points, mf, p.climate_rays, r, args, frame, sink_point(ctx.scene))
         per_rep.append(np.maximum(e_direct + radiance.EFFICACY_LM_W * (dc @ sk["all"]), 0.0))
     thresholds = ctx.project.thresholds
     shares = [climate_shares(e, thresholds, settings.aggregation) for e in per_rep]

@@ -145,7 +145,7 @@ def reflected(octree, points: np.ndarray, sky_lx: float, s: GatherSettings, fram
     if not p:
         return Reflected(total, total.copy(), count.astype(int))
     todo = np.arange(p)
-    n = max(1, int(round(np.sqrt(s.rays))))
+    n = max(1, int(round(np.sqrt(min(s.rays, s.max_rays)))))
     rnd = 0
     args = rtrace_args(s)
     while len(todo):  # a few rounds; each one rtrace call for every point still to do
@@ -178,7 +178,8 @@ def reflected(octree, points: np.ndarray, sky_lx: float, s: GatherSettings, fram
     return Reflected(mean, half, count.astype(int))
 
 
-def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSettings, frame: np.ndarray) -> Reflected:
+def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSettings, frame: np.ndarray,
+                    processes: int = 1) -> Reflected:
     """The reflected part at horizontal ``points`` (p, 3) [m, local] by light paths with next-event
     estimation through the room's windows (:mod:`.transport`: ``S`` its scene), the luminance of what
     is outside from Radiance (``octree``: the scene under the CIE overcast sky giving ``sky_lx`` on
@@ -191,7 +192,7 @@ def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSetti
     if not p:
         return Reflected(total, total.copy(), count.astype(int))
     todo = np.arange(p)
-    n = max(1, int(round(np.sqrt(s.rays))))
+    n = max(1, int(round(np.sqrt(min(s.rays, s.max_rays)))))
     rnd = 0
     args = rtrace_args(s)
     while len(todo):  # a few rounds; each one rtrace call for every point still to do
@@ -201,7 +202,7 @@ def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSetti
         y, req, touched = trace_paths(S, np.repeat(points[todo], k, axis=0), dirs, S.window_rays, [SEED, rnd, 1])
         o, d, w, path = req.arrays()
         if len(o):
-            value, _, _ = radiance.trace(octree, o, d, args)
+            value, _, _ = radiance.trace(octree, o, d, args, processes)
             y += np.bincount(path, w * value / sky_lx, len(y))
         y = y.reshape(len(todo), k)
         total[todo] += y.sum(axis=1)

@@ -273,7 +273,8 @@ def irradiance(octree: Octree, points: np.ndarray, ab: int, ad: int, as_: int, l
     return np.column_stack(out)
 
 
-def trace(octree: Octree, origins: np.ndarray, directions: np.ndarray, args: list[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def trace(octree: Octree, origins: np.ndarray, directions: np.ndarray, args: list[str],
+          processes: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Radiance along rays (``rtrace -ovxX``, one call for all): what each ray sees, the part of it
     that came through transmission (``x``: behind glass, or the whole value of an opaque or sky hit)
     and the distance the transmitted path travelled (``X``: at least 1e10 m, Radiance's FHUGE, when
@@ -283,6 +284,9 @@ def trace(octree: Octree, origins: np.ndarray, directions: np.ndarray, args: lis
     ----------
     origins, directions : (n, 3) [m, local], unit
     args : rtrace options (:func:`ambient_args`)
+    processes : rtrace programs run at once; the rays go in contiguous shares of at least
+        :data:`MIN_RAYS_PER_PROCESS` (at most 8), however many run at once, so that the numbers
+        (each program's own random sequence, -u-) do not depend on the machine's cores
 
     Returns
     -------
@@ -290,7 +294,22 @@ def trace(octree: Octree, origins: np.ndarray, directions: np.ndarray, args: lis
     """
     if not len(origins):
         return np.zeros(0), np.zeros(0), np.zeros(0)
-    rays_in = np.ascontiguousarray(np.column_stack([origins, directions]), dtype=np.float64).tobytes()
-    raw = np.frombuffer(run(["rtrace", "-h", "-fdd", "-ovxX", *args, octree.path.name], rays_in, cwd=octree.dir),
-                        dtype=np.float64).reshape(-1, 7)
+    rays_in = np.ascontiguousarray(np.column_stack([origins, directions]), dtype=np.float64)
+    parts = np.array_split(np.arange(len(rays_in)), max(1, min(8, len(rays_in) // MIN_RAYS_PER_PROCESS)))
+
+    def one(idx):
+        return run(["rtrace", "-h", "-fdd", "-ovxX", *args, octree.path.name], rays_in[idx].tobytes(), cwd=octree.dir)
+
+    if len(parts) == 1 or processes <= 1:
+        out = [one(idx) for idx in parts]
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(min(processes, len(parts))) as pool:  # the programs run at once; Python waits
+            out = list(pool.map(one, parts))
+    raw = np.frombuffer(b"".join(out), dtype=np.float64).reshape(-1, 7)
     return illuminance(raw[:, :3]), illuminance(raw[:, 3:6]), raw[:, 6]
+
+
+#: Rays per share of an rtrace call (:func:`trace`; starting a program costs about as much as tracing 4096).
+MIN_RAYS_PER_PROCESS = 4096

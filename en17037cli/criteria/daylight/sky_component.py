@@ -90,9 +90,13 @@ def _integrand(axes: np.ndarray, tv: np.ndarray, X: np.ndarray, Y: np.ndarray, n
     Xg, Yg = X[:, :, None], Y[:, None, :]
     X2, Y2 = Xg * Xg, Yg * Yg
     inv = 1.0 / np.sqrt(1.0 + X2 + Y2)  # cos i
-    pn, pz = axes @ normal, axes[:, :, 2]  # (m, 3): u, v, n on the plane's normal and on +z
+    pz = axes[:, :, 2]  # (m, 3): u, v, n on +z
     up = np.maximum((Xg * pz[:, 0, None, None] + Yg * pz[:, 1, None, None] + pz[:, 2, None, None]) * inv, 0.0)  # sin γ
-    cos_t = np.maximum((Xg * pn[:, 0, None, None] + Yg * pn[:, 1, None, None] + pn[:, 2, None, None]) * inv, 0.0)
+    if normal[0] == 0.0 and normal[1] == 0.0 and normal[2] == 1.0:
+        cos_t = up  # a horizontal plane: θ is the zenith angle
+    else:
+        pn = axes @ normal
+        cos_t = np.maximum((Xg * pn[:, 0, None, None] + Yg * pn[:, 1, None, None] + pn[:, 2, None, None]) * inv, 0.0)
     tau = np.empty_like(inv)
     for t in np.unique(tv):  # a few glazing types; each vectorised
         k = tv == t
@@ -160,34 +164,31 @@ def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv:
             break
         pi = P.pt[cells.patch]
         kinds = cells.kinds()
-        f, qerr = np.zeros(len(cells.w)), np.zeros(len(cells.w))
-        has_sky = (kinds >> SKY) & 1
-        sel = np.flatnonzero(has_sky)  # cells with no sky sample add nothing
-        if len(sel):
-            win = P.win[cells.patch[sel]]
-            fs, qs = cell_integrals(axes[win], tv[win], cells.G[sel], normal)
-            part = ~cells.full[sel]  # clipped to a window outline that is not a rectangle: scaled to the part inside
-            if part.any():
-                _, _, gmin, gmax = cell_integrals(axes[win], tv[win], cells.G[sel], normal, extremes=True)
-                w, rect = cells.w[sel], _rect_solid_angle(cells.G[sel])
-                scale = np.where(rect > 0, w / np.maximum(rect, 1e-300), 0.0)
-                fs = np.where(part, fs * scale, fs)
-                qs = np.where(part, qs * scale + w * (gmax - gmin), qs)
-            f[sel], qerr[sel] = fs, qs
+        has_sky = ((kinds >> SKY) & 1) > 0  # cells with no sky sample add nothing
         mixed = ((kinds & (kinds - 1)) != 0) | cells.crossed()
         share = (kinds == (1 << SKY)).astype(float)
         mi = np.flatnonzero(mixed)
         share[mi] = cells.sample_counts(SKY)[mi] / np.maximum(cells.sample_counts()[mi], 1)
+        # only cells with sky in them and a sky edge or a window outline across them get finer; they
+        # are weighed by their midpoint to decide, by the Gauss rule only if they stay
+        split = has_sky & (mixed | ~cells.full) if level < tol.refine_levels else np.zeros(len(share), bool)
+        f, qerr = np.zeros(len(share)), np.zeros(len(share))
+        now = np.flatnonzero(has_sky & ~split)
+        f[now], qerr[now] = _weigh(axes, tv, P, cells, now, normal, gauss=True)
+        cand = np.flatnonzero(split)
+        f[cand], qerr[cand] = _weigh(axes, tv, P, cells, cand, normal, gauss=False)
         # the sky part of a mixed cell lies in [0, f]: its estimate share f errs by at most max(share, 1 - share) f
-        vis = np.where(mixed & (has_sky > 0), np.maximum(share, 1.0 - share) * f, 0.0)
-        own = vis + share * qerr
-        # only cells with sky in them and a sky edge or a window outline across them get finer
-        split = (has_sky > 0) & (mixed | ~cells.full) if level < tol.refine_levels else np.zeros(len(f), bool)
+        own = np.where(mixed & has_sky, np.maximum(share, 1.0 - share) * f, 0.0) + share * qerr
         value += np.bincount(pi, share * f, p)
         fixed = bound + np.bincount(pi[~split], own[~split], p)
         budget = np.maximum(tol.rel_tolerance * value, abs_raw) - fixed
-        sel = np.flatnonzero(split)
-        split[sel[_within_budget(pi[sel], own[sel], budget)]] = False
+        stay = cand[_within_budget(pi[cand], own[cand], budget)]
+        split[stay] = False
+        if len(stay):  # candidates that stay final after all: weighed by the Gauss rule
+            value -= np.bincount(pi[stay], share[stay] * f[stay], p)
+            f[stay], qerr[stay] = _weigh(axes, tv, P, cells, stay, normal, gauss=True)
+            own[stay] = np.where(mixed[stay], np.maximum(share[stay], 1.0 - share[stay]) * f[stay], 0.0) + share[stay] * qerr[stay]
+            value += np.bincount(pi[stay], share[stay] * f[stay], p)
         # what is not split is final: its value is counted; the cells split count again as their children
         value -= np.bincount(pi[split], (share * f)[split], p)
         bound += np.bincount(pi[~split], own[~split], p)
@@ -227,6 +228,33 @@ def _node_bins(axes, tv, P, cells, fin, share, bins, nbins: int, normal, p: int)
     ok = b >= 0
     out += np.bincount(pt[ok] * nbins + b[ok], (w * share[:, None, None]).ravel()[ok], p * nbins)
     return out.reshape(p, nbins)
+
+
+def _weigh(axes, tv, P, cells, idx, normal, gauss: bool):
+    """(value, error) [sr] of cells ``idx``: the 3 x 3 Gauss rule with its error estimate
+    (:func:`cell_integrals`), or the midpoint rule alone (error 0: an estimate to decide by); a cell
+    cut by a window outline that is not a rectangle scaled to its exact part inside, the integrand's
+    range over it times that part added to the error."""
+    if not len(idx):
+        return np.zeros(0), np.zeros(0)
+    win = P.win[cells.patch[idx]]
+    G = cells.G[idx]
+    if gauss:
+        fs, qs = cell_integrals(axes[win], tv[win], G, normal)
+    else:
+        ha, hb = 0.5 * (G[:, 1] - G[:, 0]), 0.5 * (G[:, 3] - G[:, 2])
+        g, jac = _integrand(axes[win], tv[win], np.tan(0.5 * (G[:, 0] + G[:, 1]))[:, None],
+                            np.tan(0.5 * (G[:, 2] + G[:, 3]))[:, None], np.asarray(normal, float))
+        fs, qs = 4.0 * (g * jac)[:, 0, 0] * ha * hb, np.zeros(len(idx))
+    part = ~cells.full[idx]  # clipped to a window outline that is not a rectangle: scaled to the part inside
+    if part.any():
+        w, rect = cells.w[idx], _rect_solid_angle(G)
+        scale = np.where(rect > 0, w / np.maximum(rect, 1e-300), 0.0)
+        fs = np.where(part, fs * scale, fs)
+        if gauss:
+            _, _, gmin, gmax = cell_integrals(axes[win], tv[win], G, normal, extremes=True)
+            qs = np.where(part, qs * scale + w * (gmax - gmin), qs)
+    return fs, qs
 
 
 def _rect_solid_angle(G: np.ndarray) -> np.ndarray:
