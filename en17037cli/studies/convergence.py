@@ -265,6 +265,8 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
             for value in lad.values:  # one run per rung
                 vals, wall, rays = runner.run(check, {**lad.extra, lad.knob: value}, lad.per_point)
                 for q in lad.quantities:
+                    if not vals[q][0].size and not ref[q][0].size:
+                        continue  # a quantity the project's method does not give (shares of hours under method 1)
                     kind = QUANTITIES[q].kind
                     err = max_error(vals[q][0], ref[q][0])
                     est = float(np.nanmax(vals[q][1])) if vals[q][1].size and np.any(np.isfinite(vals[q][1])) else math.nan
@@ -276,6 +278,8 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
             rows += rung_rows
             for q in lad.quantities:
                 qr = [r for r in rung_rows if r["quantity"] == q]
+                if not qr:
+                    continue
                 ref_est = ref[q][1][np.isfinite(ref[q][1])]
                 floor = max(ROUND_OFF * targets[QUANTITIES[q].kind], 2.0 * float(ref_est.max()) if ref_est.size else 0.0)
                 h = [2.0 ** -r["value"] if lad.levels else r["value"] for r in qr]

@@ -146,13 +146,20 @@ class DaylightCriterion(Criterion):
         return window_transmittance(ctx.scene, room, dict(s.reflectance), s.glazing_transmittance)
 
 
-    def reflected(self, ctx: Context, room, points):
+    def reflected(self, ctx: Context, room, points, sky=None):
         """The reflected components at ``points``: light paths with next-event estimation through the
-        room's windows, what is outside from Radiance (:mod:`.transport`, :func:`.gather.reflected_paths`)."""
+        room's windows, what is outside from Radiance (:mod:`.transport`, :func:`.gather.reflected_paths`);
+        with the points' sky component ``sky``, a point stops early once its D is clear of every
+        threshold of Table A.1."""
+        from en17037cli.criteria.daylight.assess import targets
         from en17037cli.criteria.daylight.gather import reflected_paths, sampling_frame
 
+        median, _ = self.median(ctx)
+        et, etm = targets(ctx.project.thresholds)
+        thresholds = sorted({v / median for v in (*et.values(), *etm.values())})
+        known = None if sky is None else (sky.value, sky.bound)
         return reflected_paths(self.paths_scene(ctx, room), self.octree(ctx), points, SKY_LX, self.gather_settings(ctx),
-                               sampling_frame(room.windows[0].normal), ctx.engine.threads)
+                               sampling_frame(room.windows[0].normal), ctx.engine.threads, known, thresholds)
 
     def gather_settings(self, ctx: Context):
         from en17037cli.criteria.daylight.gather import GatherSettings
@@ -185,7 +192,7 @@ class DaylightCriterion(Criterion):
             self.octree_soon(ctx)
             sc = self.sky(ctx, room, plan)
             t_sky = time.perf_counter() - t
-            refl = self.reflected(ctx, room, plan)
+            refl = self.reflected(ctx, room, plan, sc)
             res = daylight_factor_room(plan, sc, refl, median, source, ctx.project.thresholds, params)
             res.radiance["sky_time_s"] = t_sky
         else:

@@ -179,12 +179,15 @@ def reflected(octree, points: np.ndarray, sky_lx: float, s: GatherSettings, fram
 
 
 def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSettings, frame: np.ndarray,
-                    processes: int = 1) -> Reflected:
+                    processes: int = 1, known=None, thresholds=()) -> Reflected:
     """The reflected part at horizontal ``points`` (p, 3) [m, local] by light paths with next-event
     estimation through the room's windows (:mod:`.transport`: ``S`` its scene), the luminance of what
     is outside from Radiance (``octree``: the scene under the CIE overcast sky giving ``sky_lx`` on
     an unobstructed horizontal plane). Rounds, intervals and their rules as :func:`reflected`'s,
-    with one path per direction."""
+    with one path per direction; and a point is also done once its daylight factor, ``known`` =
+    (value, bound) (p,) [-] (the sky component) plus the reflected part, lies farther than their
+    errors from every one of ``thresholds`` [-] (D_T and D_TM of each level): more paths would not
+    move it across one."""
     from en17037cli.criteria.daylight.transport import trace_paths
 
     p = len(points)
@@ -213,7 +216,11 @@ def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSetti
         var = np.maximum(sq[todo] / count[todo] - mean * mean, 0.0) * count[todo] / np.maximum(count[todo] - 1, 1)
         half = Z995 * np.sqrt(var / count[todo])
         trusted = (lit[todo] >= MIN_LIT) | (lit[todo] == 0)
-        done = ((half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)) & trusted) | (2 * count[todo] > s.max_rays)
+        precise = half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)
+        if known is not None and len(thresholds):
+            d, e = known[0][todo] + mean, known[1][todo] + half
+            precise |= np.all(np.abs(d[:, None] - np.asarray(thresholds)[None]) > e[:, None], axis=1)
+        done = (precise & trusted) | (2 * count[todo] > s.max_rays)
         todo = todo[~done]
         n = int(round(np.sqrt(count[todo].max()))) if len(todo) else n
         rnd += 1
