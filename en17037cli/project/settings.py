@@ -191,7 +191,8 @@ class RadianceParams:
     bounce limit ``ab``, hemisphere samples ``ad``, super-samples ``as``, the Russian-roulette
     weight ``lw``; ``window_rays``: directions per window a path's bounce sends through the glazing;
     ``replicates`` independent sets of ``climate_rays`` paths per point give method 2's daylight
-    coefficients, their spread the error of the shares of hours."""
+    coefficients, their spread the error of the shares of hours; ``stop_clear_of_thresholds``: a
+    point also stops once its D is farther than its error from every threshold."""
 
     ab: int = 12
     ad: int = 1
@@ -204,6 +205,7 @@ class RadianceParams:
     abs_tolerance_pct: float = 0.01
     window_rays: int = 1
     climate_rays: int = 1024
+    stop_clear_of_thresholds: bool = True
 
 
 @dataclass(frozen=True)
@@ -321,7 +323,8 @@ def daylight_settings(d: dict, directory: Path) -> DaylightSettings:
         radiance=RadianceParams(ab=int(rp["ab"]), ad=int(rp["ad"]), as_=int(rp["as"]), lw=float(rp["lw"]),
                                 replicates=int(rp["replicates"]), rays=int(rp["rays"]), max_rays=int(rp["max_rays"]),
                                 rel_tolerance=float(rp["rel_tolerance"]), abs_tolerance_pct=float(rp["abs_tolerance_pct"]),
-                                window_rays=int(rp["window_rays"]), climate_rays=int(rp["climate_rays"])),
+                                window_rays=int(rp["window_rays"]), climate_rays=int(rp["climate_rays"]),
+                                stop_clear_of_thresholds=bool(rp["stop_clear_of_thresholds"])),
         grid_offset=float(d.get("grid_offset", 0.0)),
         sky_component=_sky_component_settings(d.get("sky_component", {})))
 

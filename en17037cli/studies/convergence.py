@@ -61,7 +61,8 @@ QUANTITIES = {
 SKY_REFERENCE = {"daylight.sky_component.resolution_deg": 0.5, "daylight.sky_component.rel_tolerance": 0.0005,
                  "daylight.sky_component.abs_tolerance_pct": 0.0005, "daylight.sky_component.refine_levels": 10}
 #: Every point traces max_rays paths (no stopping early), so that the rungs are what they say.
-PATHS_EXTRA = {"daylight.radiance.rel_tolerance": 0, "daylight.radiance.abs_tolerance_pct": 0}
+PATHS_EXTRA = {"daylight.radiance.rel_tolerance": 0, "daylight.radiance.abs_tolerance_pct": 0,
+               "daylight.radiance.stop_clear_of_thresholds": False}
 PATHS_REFERENCE = {"daylight.radiance.max_rays": 16384, **PATHS_EXTRA}
 
 

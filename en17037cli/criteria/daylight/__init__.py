@@ -157,7 +157,7 @@ class DaylightCriterion(Criterion):
         median, _ = self.median(ctx)
         et, etm = targets(ctx.project.thresholds)
         thresholds = sorted({v / median for v in (*et.values(), *etm.values())})
-        known = None if sky is None else (sky.value, sky.bound)
+        known = None if sky is None or not self._settings(ctx).radiance.stop_clear_of_thresholds else (sky.value, sky.bound)
         return reflected_paths(self.paths_scene(ctx, room), self.octree(ctx), points, SKY_LX, self.gather_settings(ctx),
                                sampling_frame(room.windows[0].normal), ctx.engine.threads, known, thresholds)
 
@@ -186,7 +186,8 @@ class DaylightCriterion(Criterion):
         median, source = self.median(ctx)
         p = s.radiance
         params = {"ab": p.ab, "ad": p.ad, "as": p.as_, "lw": p.lw, "rays": p.rays, "max_rays": p.max_rays,
-                  "rel_tolerance": p.rel_tolerance, "abs_tolerance_pct": p.abs_tolerance_pct}
+                  "rel_tolerance": p.rel_tolerance, "abs_tolerance_pct": p.abs_tolerance_pct, "window_rays": p.window_rays,
+                  "stop_clear_of_thresholds": p.stop_clear_of_thresholds}
         t = time.perf_counter()
         if s.method == "daylight_factor":
             self.octree_soon(ctx)

@@ -262,7 +262,8 @@ def climate_room(criterion, ctx, room, points: np.ndarray, settings: DaylightSet
     return DaylightResult(method="climate_based", points_local=points, median_diffuse_lx=median, median_source=source,
                           target_share=t_share, minimum_share=m_share, target_share_err=t_err, minimum_share_err=m_err,
                           level=level, near_threshold=near,
-                          radiance=params | {"replicates": p.replicates, "sky_subdivision": mf},
+                          radiance={k: v for k, v in params.items() if k in ("ab", "ad", "as", "lw", "window_rays")}
+                          | {"replicates": p.replicates, "climate_rays": p.climate_rays, "sky_subdivision": mf},
                           illuminances_lx=tuple(lux), share_of_hours={lx: v[0] for lx, v in soh.items()},
                           share_of_hours_err={lx: v[1] for lx, v in soh.items()}, aggregation=settings.aggregation,
                           hours=int(len(sk["hours"])))

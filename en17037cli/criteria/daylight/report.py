@@ -17,20 +17,23 @@ DAYLIGHT_METHODS = {
         "SC, the sky component (light straight from the sky through the glazing, its angular transmittance "
         "Radiance's glass): exact visibility on the windows' gnomonic grids (frames, reveals, obstructions), cells "
         "integrated by Gauss-Legendre and split where the sky's edge crosses them (daylight.sky_component); its "
-        "error is a bound. R, the externally and internally reflected components: Radiance rtrace (Russian "
-        "roulette, no ambient cache) along daylight.radiance.rays cosine-weighted stratified directions per point "
-        "and more until the interval is within max(rel_tolerance R, abs_tolerance_pct), the light seen straight "
-        "through the glazing of the sky left out; its error is the half-width of a 99 % confidence interval "
-        "(statistical). Error of D = the bound plus the interval; D_T = E_T / E_v,d,med, D_TM = E_TM / E_v,d,med; "
-        "error of a share = share of the points whose D lies within its error of the threshold"),
+        "error is a bound. R, the externally and internally reflected components: light paths from each point "
+        "(daylight.radiance.rays cosine-weighted stratified directions, more up to max_rays until the interval is within "
+        "max(rel_tolerance R, abs_tolerance_pct) or D is clear of every threshold), bouncing off the room's grey "
+        "Lambertian surfaces with Russian roulette, the light through the glazing taken at every bounce by directions "
+        "aimed through the windows (the CIE sky by its formula, what is outside by Radiance rtrace); its error is the "
+        "half-width of a 99 % confidence interval over the paths (statistical). Error of D = the bound plus the "
+        "interval; D_T = E_T / E_v,d,med, D_TM = E_TM / E_v,d,med; error of a share = share of the points whose D "
+        "lies within its error of the threshold"),
     "climate_based": (
         "EN 17037 method 2: hourly illuminance of the 4380 daylight hours (the half of the year with the highest "
-        "diffuse horizontal illuminance in the weather file) from daylight coefficients: Radiance rcontrib against a "
-        "Reinhart sky of daylight.sky_subdivision (with daylight.radiance -ab/-ad/-lw) times gendaymtx's sky without "
-        "the sun, plus the sun: sun coefficients (rcontrib -ab 0 to suns at the Reinhart daylight.sun_subdivision "
-        "patch centres) times gendaymtx -d, and its reflected part from the daylight coefficients less their direct "
-        "part (rcontrib -ab 1 in a black scene); shares by daylight.aggregation; error of a share = half-width of the "
-        "95 % confidence interval over the replicates of the daylight coefficients"),
+        "diffuse horizontal illuminance in the weather file), split as method 1: the sky straight through the glazing "
+        "per Reinhart patch of daylight.sky_subdivision by the sky component's exact integration, times gendaymtx's "
+        "sky without the sun; the direct sun by a ray to its centre each hour through the glazing (exact visibility), "
+        "its direct normal illuminance from gendaymtx; the reflected light from daylight coefficients of method 1's "
+        "light paths (daylight.radiance.climate_rays per point and replicate; what is outside by Radiance rcontrib) "
+        "times gendaymtx's sky with the sun; shares by daylight.aggregation; error of a share = half-width of the 95 % "
+        "confidence interval over the replicates of the paths (the direct parts are exact)"),
 }
 
 
