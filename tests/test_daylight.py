@@ -214,3 +214,13 @@ def test_sensitivity_tries_the_aggregation_order(tmp_path):
     assert "daylight,daylight.aggregation,points_first" in csv_text  # the other order, tried
     assert "daylight,daylight.radiance.ab,2" in csv_text
     assert "daylight.radiance.ad" not in csv_text and "daylight.sky_subdivision" not in csv_text  # the project's own values
+
+
+def test_replicates_lay_their_own_grids():
+    # Radiance samples an n x n grid, n = floor(sqrt(ad) + 0.5) at a point of rtrace -I: replicates
+    # whose -ad rounded to one n came out identical (512 and 548 are both 23 x 23), their spread 0
+    from en17037cli.criteria.daylight.radiance import replicate_divisions
+
+    for ad, reps in ((512, 4), (64, 8), (4096, 4), (100, 3)):
+        n = [int(np.sqrt(a) + 0.5) for a in replicate_divisions(ad, reps)]
+        assert len(set(n)) == reps and n[0] ** 2 >= ad
