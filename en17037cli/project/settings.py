@@ -194,7 +194,7 @@ class RadianceParams:
     coefficients, their spread the error of the shares of hours; ``stop_clear_of_thresholds``: a
     point also stops once its D is farther than its error from every threshold."""
 
-    ab: int = 12
+    ab: int = 100
     ad: int = 1
     as_: int = 0
     lw: float = 0.05

@@ -80,7 +80,7 @@ class GatherSettings:
     max_rays: int = 4096
     rel_tolerance: float = 0.05
     abs_tolerance: float = 1e-4
-    ab: int = 12
+    ab: int = 100
     ad: int = 1
     lw: float = 0.05
     window_rays: int = 1
