@@ -26,6 +26,10 @@ Speed is measured here, never in a timed test. Sections:
 9. **Dask**: ``en17037 batch --scheduler local`` on the block's first 108 rooms (defaults) with 1
    and 2 local workers (each with cores // workers ray-tracing threads): rooms per second, and a
    check that both give the same summary.
+9b. **Daylight** (issue 36): daylight provision on the seed office by method 1 (the exact sky
+   component and the light paths) and method 2 (the Chicago TMY3 of ``sample_projects/weather``)
+   and on a real IFC export, at the defaults: report.json's daylight time, the child process's user
+   CPU time and the error reached (D's bound plus interval; the shares of hours' intervals).
 10. **Targets** (issue 18): every target with the measured figure, the target, met or not, and
    where it applies the time raw Embree needs for the same rays and the ratio to it: the seed
    office's whole ``check`` (median of 3), the paper's 2 x 1400-point grid, the 216-room block per

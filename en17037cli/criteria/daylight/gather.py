@@ -1,5 +1,8 @@
-"""The reflected components of the daylight factor (externally and internally reflected light) on
-Radiance, by a gather at each point of the reference plane with the sky component left out exactly.
+"""The reflected components of the daylight factor (externally and internally reflected light): the
+rounds of samples per point and their intervals, for the light paths of :mod:`.transport`
+(:func:`reflected_paths`, what the criterion uses) and for a gather on Radiance alone
+(:func:`reflected`, kept as an independent cross-check: docs/daylight.md), which this docstring
+describes; the rules of the rounds and intervals are the same.
 
 The illuminance of a horizontal point is E = ∫ L(ω) cos θ dω over its upper hemisphere. Cosine-
 weighted directions make each sample an estimate of it: E ≈ π mean(L(ω_k)). Each direction is
