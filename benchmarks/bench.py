@@ -26,6 +26,10 @@ Speed is measured here, never in a timed test. Sections:
 9. **Dask**: ``en17037 batch --scheduler local`` on the block's first 108 rooms (defaults) with 1
    and 2 local workers (each with cores // workers ray-tracing threads): rooms per second, and a
    check that both give the same summary.
+9b. **Daylight** (issue 36): daylight provision on the seed office by method 1 (the exact sky
+   component and the light paths) and method 2 (the Chicago TMY3 of ``sample_projects/weather``)
+   and on a real IFC export, at the defaults: report.json's daylight time, the child process's user
+   CPU time and the error reached (D's bound plus interval; the shares of hours' intervals).
 10. **Targets** (issue 18): every target with the measured figure, the target, met or not, and
    where it applies the time raw Embree needs for the same rays and the ratio to it: the seed
    office's whole ``check`` (median of 3), the paper's 2 x 1400-point grid, the 216-room block per
@@ -427,10 +431,17 @@ REAL_IFC = ROOT.parent / "shared" / "data" / "real-models" / "Duplex_A_20110907.
 
 
 def daylight_cost() -> list:
-    """Daylight provision (5.1) with its verdicts and the daylight stage's time: the seed office and
-    a real IFC export (every IfcSpace, method 1 at the defaults)."""
+    """Daylight provision (5.1) with its verdicts, the daylight stage's time (report.json's
+    ``timings_s``, wall) and the child process's user CPU time (the fair figure on a shared
+    machine), and the error reached: the seed office by method 1 (D = exact sky component + light
+    paths) and method 2 (the Chicago TMY3), and a real IFC export (every IfcSpace, method 1), all at
+    the defaults."""
+    import resource
+
     rows = []
-    for name, path in (("seed-office", SAMPLES["seed-office"]), ("Duplex (real IFC)", None)):
+    cases = (("seed-office", SAMPLES["seed-office"]), ("seed-office climate", ROOT / "sample_projects/seed-office/project-climate.yaml"),
+             ("Duplex (real IFC)", None))
+    for name, path in cases:
         with tempfile.TemporaryDirectory() as tmp:
             if path is None:
                 if not REAL_IFC.is_file():
@@ -441,14 +452,29 @@ def daylight_cost() -> list:
                                 "daylight: {median_diffuse_lx: 13300}\nrequirements: {daylight: minimum, view: none, sunlight: none}\n")
             out = Path(tmp) / "out"
             cmd = [sys.executable, "-m", "en17037cli", "check", str(path), "--quiet", "--no-plots", "--out", str(out), "--only", "daylight"]
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
             t = time.perf_counter()
             subprocess.run(cmd, capture_output=True, text=True, check=False)
             wall = time.perf_counter() - t
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
             rep = json.loads((out / "report.json").read_text())
             secs = [r["daylight"] for r in rep["rooms"] if r.get("daylight") and r["daylight"]["status"] in ("pass", "fail")]
-            rows.append({"project": name, "rooms": len(secs), "points": sum(len(s["points"]) for s in secs),
-                         "pass": sum(s["status"] == "pass" for s in secs), "levels": " ".join(s["level"] for s in secs),
-                         "daylight_s": rep["timings_s"].get("daylight"), "wall_s": round(wall, 3)})
+            pts = [p for sec in secs for p in sec["points"]]
+            row = {"project": name, "method": secs[0]["method"] if secs else "", "rooms": len(secs), "points": len(pts),
+                   "pass": sum(s["status"] == "pass" for s in secs), "levels": " ".join(s["level"] for s in secs),
+                   "daylight_s": rep["timings_s"].get("daylight"), "wall_s": round(wall, 3),
+                   "user_cpu_s": round(after.ru_utime - before.ru_utime, 3)}
+            if pts and "daylight_factor_error_pct" in pts[0]:
+                err = np.array([p["daylight_factor_error_pct"] for p in pts])
+                refl = np.array([p["reflected_pct"] for p in pts])
+                rerr = np.array([p["reflected_error_pct"] for p in pts])
+                row |= {"D_error_median_pct": round(float(np.median(err)), 4), "D_error_max_pct": round(float(err.max()), 4),
+                        "SC_bound_max_pct": round(max(p["sky_component_bound_pct"] for p in pts), 5),
+                        "R_error_median_rel": round(float(np.median(rerr / np.maximum(refl, 1e-9))), 3)}
+            elif pts:
+                e = np.array([v for p in pts for v in p["share_of_hours_error"].values()])
+                row |= {"share_error_median": round(float(np.median(e)), 4), "share_error_max": round(float(e.max()), 4)}
+            rows.append(row)
     return rows
 
 
@@ -587,8 +613,10 @@ def main(argv=None) -> int:
                ["workers", "threads_per_worker", "rooms", "startup_s", "wall_s", "rooms_per_s", "speed_up"])
     if "daylight" in args.only:
         result["daylight"] = daylight_cost()
-        _table("Daylight provision (5.1), method 1 at the defaults (-ab 5 -ad 512, 4 replicates) [s]", result["daylight"],
-               ["project", "rooms", "points", "pass", "levels", "daylight_s", "wall_s"])
+        _table("Daylight provision (5.1) at the defaults: time [s] and the error reached (D [% D], 99 %: bound + interval)",
+               result["daylight"], ["project", "method", "rooms", "points", "levels", "daylight_s", "user_cpu_s", "D_error_median_pct",
+                                    "D_error_max_pct", "SC_bound_max_pct", "R_error_median_rel", "share_error_median",
+                                    "share_error_max"])
     if "glare" in args.only:
         sys.path.insert(0, str(Path(__file__).resolve().parent))
         from bench_glare import COLUMNS, glare_cost

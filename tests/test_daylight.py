@@ -73,6 +73,28 @@ def test_epw_reader_and_median(tmp_path):
     assert w.diffuse_lx[hours].min() >= np.sort(w.diffuse_lx)[::-1][4379]
 
 
+def test_epw_start_day(tmp_path):
+    # the synthetic year 2026 starts on a Thursday (1 January 2026, by the calendar) and its header says so
+    path = synthetic_epw(tmp_path / "s.epw")
+    lines = path.read_text().splitlines()
+    assert lines[7] == "DATA PERIODS,1,1,Data,Thursday, 1/ 1,12/31"
+    w = read_epw(path)
+    assert w.start_weekday == 3 and w.weekday_note is None
+    # a header naming another day for rows of one calendar year is read as written and noted
+    lines[7] = "DATA PERIODS,1,1,Data,Sunday, 1/ 1,12/31"
+    path.write_text("\n".join(lines) + "\n")
+    w = read_epw(path)
+    assert w.start_weekday == 6 and "Sunday" in w.weekday_note and "2026-01-01, is a Thursday" in w.weekday_note
+    # a typical year stitched from months of different years (1986 January, ...) has no calendar to check against
+    real = read_epw(REAL_EPW)
+    assert real.start_weekday == 6 and real.weekday_note is None
+    assert real.place == "Chicago Ohare Intl Ap, IL, USA" and real.median_diffuse_lx() == 15900.0
+
+
+REAL_EPW = __import__("pathlib").Path(__file__).resolve().parents[1] / "sample_projects" / "weather" / \
+    "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
+
+
 def test_epw_errors(tmp_path):
     from en17037cli.errors import InputError
 
@@ -80,6 +102,12 @@ def test_epw_errors(tmp_path):
     p.write_text("not,an,epw\n")
     with pytest.raises(InputError, match="not an EPW weather file"):
         read_epw(p)
+    lines = synthetic_epw(tmp_path / "s.epw").read_text().splitlines()
+    for bad, message in (("DATA PERIODS,1,4,Data,Thursday, 1/ 1,12/31", "4 records per hour"),
+                         ("DATA PERIODS,1,1,Data,Thorsday, 1/ 1,12/31", "'Thorsday' is not a day of the week")):
+        p.write_text("\n".join(lines[:7] + [bad] + lines[8:]) + "\n")
+        with pytest.raises(InputError, match=message):
+            read_epw(p)
 
 
 def _project(tmp_path, daylight: dict, **box):
@@ -97,7 +125,7 @@ def test_daylight_section_errors(tmp_path):
     path = _project(tmp_path, {})
     r = CliRunner().invoke(cli, ["validate", str(path)])
     assert r.exit_code == 2 and "daylight.median_diffuse_lx" in r.output
-    path = _project(tmp_path, {"median_diffuse_lx": 14000, "radiance": {"ad": 8}})
+    path = _project(tmp_path, {"median_diffuse_lx": 14000, "radiance": {"ad": 0}})
     r = CliRunner().invoke(cli, ["validate", str(path)])
     assert r.exit_code == 2 and "daylight.radiance.ad" in r.output
 
@@ -186,3 +214,13 @@ def test_sensitivity_tries_the_aggregation_order(tmp_path):
     assert "daylight,daylight.aggregation,points_first" in csv_text  # the other order, tried
     assert "daylight,daylight.radiance.ab,2" in csv_text
     assert "daylight.radiance.ad" not in csv_text and "daylight.sky_subdivision" not in csv_text  # the project's own values
+
+
+def test_replicates_lay_their_own_grids():
+    # Radiance samples an n x n grid, n = floor(sqrt(ad) + 0.5) at a point of rtrace -I: replicates
+    # whose -ad rounded to one n came out identical (512 and 548 are both 23 x 23), their spread 0
+    from en17037cli.criteria.daylight.radiance import replicate_divisions
+
+    for ad, reps in ((512, 4), (64, 8), (4096, 4), (100, 3)):
+        n = [int(np.sqrt(a) + 0.5) for a in replicate_divisions(ad, reps)]
+        assert len(set(n)) == reps and n[0] ** 2 >= ad

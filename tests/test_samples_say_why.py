@@ -16,7 +16,7 @@ PROJECTS = sorted((ROOT / "sample_projects").glob("*/*.yaml"))
 
 
 def test_every_sample_project_is_listed_here():
-    assert len(PROJECTS) >= 5  # seed office (2), synthetic street, IFC house, CityJSON Rotterdam
+    assert len(PROJECTS) >= 6  # seed office (3: method 2 on real weather), synthetic street, IFC house, CityJSON Rotterdam
 
 
 @pytest.mark.parametrize("path", PROJECTS, ids=lambda p: f"{p.parent.name}/{p.name}")

@@ -56,3 +56,33 @@ def test_unknown_ladder_and_target_are_input_errors(tmp_path):
     for args in (["--ladder", "view.nope"], ["--target", "speed=1"], ["--target", "angle_deg=x"]):
         r = CliRunner().invoke(cli, ["study", "convergence", str(path), "--out", str(tmp_path / "o"), *args])
         assert r.exit_code == 2 and r.output.startswith("error: ") and "--" in r.output and len(r.output.splitlines()) == 1
+
+
+def test_daylight_ladders(tmp_path):
+    """Daylight provision's two ladders on a box room: the sky component's bound falls with its
+    tolerance and holds its error at every rung and point (the error itself need not fall: a coarse
+    rung's cells across the building's edge happen to be counted at about their share); the paths'
+    error and interval fall with their number (Monte Carlo) and each rung's interval with the
+    reference's holds the difference at all but one of the 15 points."""
+    import pytest
+    import yaml
+
+    pytest.importorskip("pyradiance")
+    path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=None, view=None)
+    doc = yaml.safe_load(path.read_text())
+    doc["daylight"] = {"median_diffuse_lx": 14000, "grid_spacing_m": 1.0}
+    doc["requirements"] = {"daylight": "minimum", "view": "none", "sunlight": "none"}
+    path.write_text(yaml.safe_dump(doc))
+    sky = study.Ladder("daylight.sky_component.rel_tolerance", (0.05, 0.02, 0.005), study.SKY_REFERENCE, ("sky_component",))
+    paths = study.Ladder("daylight.radiance.max_rays", (64, 256, 1024), {"daylight.radiance.max_rays": 4096, **study.PATHS_EXTRA},
+                         ("reflected",), extra=study.PATHS_EXTRA)
+    res = study.convergence(path, tmp_path / "out", (sky, paths), log=lambda m: None)
+    rows = {(r["ladder"], r["value"]): r for r in res["rows"]}
+    est = [rows[("daylight.sky_component.rel_tolerance", v)]["estimate"] for v in (0.05, 0.02, 0.005)]
+    assert est[0] >= est[1] > est[2]
+    for v in (0.05, 0.02, 0.005):  # the bound covers the error (plus the reference's own), point by point
+        assert rows[("daylight.sky_component.rel_tolerance", v)]["over_estimate"] == 0
+    e = [rows[("daylight.radiance.max_rays", v)]["error"] for v in (64, 256, 1024)]
+    est = [rows[("daylight.radiance.max_rays", v)]["estimate"] for v in (64, 256, 1024)]
+    assert e[2] < e[0] and est[0] > est[1] > est[2]
+    assert all(rows[("daylight.radiance.max_rays", v)]["over_estimate"] <= 1 for v in (64, 256, 1024))  # 15 points

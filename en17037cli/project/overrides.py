@@ -55,6 +55,12 @@ MOOT = (
      "daylight.method is daylight_factor (one overcast sky, no sky patches); it is used by climate_based only"),
     ("daylight.sun_subdivision", ("daylight.method", "daylight_factor", "climate_based"),
      "daylight.method is daylight_factor (no sun); it is used by climate_based only"),
+    *((f"daylight.radiance.{k}", ("daylight.method", "daylight_factor", "climate_based"),
+       f"daylight.method is daylight_factor (one overcast sky); radiance.{k} is used by climate_based only")
+      for k in ("replicates", "climate_rays")),
+    *((f"daylight.radiance.{k}", ("daylight.method", "climate_based", "daylight_factor"),
+       f"daylight.method is climate_based (replicates of climate_rays paths per point); radiance.{k} is used by "
+       "daylight_factor only") for k in ("rays", "max_rays", "rel_tolerance", "abs_tolerance_pct", "stop_clear_of_thresholds")),
 )
 
 

@@ -191,15 +191,40 @@ class SunSettings:
 
 @dataclass(frozen=True)
 class RadianceParams:
-    """Radiance's ambient parameters of a daylight run (see ``rtrace(1)``): bounces ``ab``, divisions
-    ``ad``, super-samples ``as``, the weight limit ``lw``; ``replicates``: independent estimates per
-    point, whose spread gives each value's Monte Carlo error."""
+    """How Radiance computes the reflected components (``daylight.radiance``, see
+    :mod:`en17037cli.criteria.daylight.gather`): the gather's ``rays`` per point in a first round,
+    ``max_rays`` at most, until the 99 % interval is within max(``rel_tolerance`` x R,
+    ``abs_tolerance_pct`` [% D]); Radiance's ambient parameters at each hit (see ``rtrace(1)``):
+    bounce limit ``ab``, hemisphere samples ``ad``, super-samples ``as``, the Russian-roulette
+    weight ``lw``; ``window_rays``: directions per window a path's bounce sends through the glazing;
+    ``replicates`` independent sets of ``climate_rays`` paths per point give method 2's daylight
+    coefficients, their spread the error of the shares of hours; ``stop_clear_of_thresholds``: a
+    point also stops once its D is farther than its error from every threshold."""
 
-    ab: int = 5
-    ad: int = 512
+    ab: int = 100
+    ad: int = 1
     as_: int = 0
-    lw: float = 1e-3
+    lw: float = 0.05
     replicates: int = 4
+    rays: int = 256
+    max_rays: int = 4096
+    rel_tolerance: float = 0.05
+    abs_tolerance_pct: float = 0.01
+    window_rays: int = 1
+    climate_rays: int = 1024
+    stop_clear_of_thresholds: bool = True
+
+
+@dataclass(frozen=True)
+class SkyComponentSettings:
+    """``daylight.sky_component``: how finely the sky component is integrated (see
+    :class:`en17037cli.criteria.daylight.sky_component.SkyTolerance`): base cell [deg], splits of a
+    mixed cell, and the bound's target, max(``rel_tolerance`` x SC, ``abs_tolerance_pct`` [% D])."""
+
+    resolution_deg: float = 1.0
+    refine_levels: int = 8
+    rel_tolerance: float = 0.005
+    abs_tolerance_pct: float = 0.005
 
 
 @dataclass(frozen=True)
@@ -224,6 +249,7 @@ class DaylightSettings:
     reflectance: tuple[tuple[str, float], ...]
     radiance: RadianceParams
     grid_offset: float = 0.0
+    sky_component: SkyComponentSettings = SkyComponentSettings()
 
     def reflectance_of(self, surface: str) -> float:
         return dict(self.reflectance)[surface]
@@ -303,8 +329,20 @@ def daylight_settings(d: dict, directory: Path) -> DaylightSettings:
         sun_subdivision=int(d["sun_subdivision"]), glazing_transmittance=float(d["glazing_transmittance"]),
         reflectance=tuple((k, float(v)) for k, v in d["reflectance"].items()),
         radiance=RadianceParams(ab=int(rp["ab"]), ad=int(rp["ad"]), as_=int(rp["as"]), lw=float(rp["lw"]),
-                                replicates=int(rp["replicates"])),
-        grid_offset=float(d.get("grid_offset", 0.0)))
+                                replicates=int(rp["replicates"]), rays=int(rp["rays"]), max_rays=int(rp["max_rays"]),
+                                rel_tolerance=float(rp["rel_tolerance"]), abs_tolerance_pct=float(rp["abs_tolerance_pct"]),
+                                window_rays=int(rp["window_rays"]), climate_rays=int(rp["climate_rays"]),
+                                stop_clear_of_thresholds=bool(rp["stop_clear_of_thresholds"])),
+        grid_offset=float(d.get("grid_offset", 0.0)),
+        sky_component=_sky_component_settings(d.get("sky_component", {})))
+
+
+def _sky_component_settings(d: dict) -> SkyComponentSettings:
+    base = SkyComponentSettings()
+    return SkyComponentSettings(resolution_deg=float(d.get("resolution_deg", base.resolution_deg)),
+                                refine_levels=int(d.get("refine_levels", base.refine_levels)),
+                                rel_tolerance=float(d.get("rel_tolerance", base.rel_tolerance)),
+                                abs_tolerance_pct=float(d.get("abs_tolerance_pct", base.abs_tolerance_pct)))
 
 
 def layer_rule(r: dict) -> LayerRule:

@@ -44,13 +44,15 @@ def sunlight_days_csv(report: dict) -> str:
 
 def daylight_points_csv(report: dict) -> str:
     """``daylight_points.csv``: one row per point of each room's reference plane (clause 5.1): its
-    daylight factor (method 1) or its share of the daylight hours reaching each target illuminance
-    of Table A.1 (method 2, ``share_of_hours_<lx>lx``), with their error estimates."""
+    daylight factor (method 1, with its sky component and its bound and the reflected components
+    and their interval) or its share of the daylight hours reaching each target illuminance of
+    Table A.1 (method 2, ``share_of_hours_<lx>lx``), with their error estimates."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     lux = sorted({float(k) for room in report["rooms"] if assessed(room.get("daylight"))
                   for p in room["daylight"]["points"][:1] for k in p.get("share_of_hours", {})})
-    w.writerow(["room", "method", "x_m", "y_m", "z_m", "daylight_factor_pct", "daylight_factor_error_pct",
+    split = ("sky_component_pct", "sky_component_bound_pct", "reflected_pct", "reflected_error_pct")
+    w.writerow(["room", "method", "x_m", "y_m", "z_m", "daylight_factor_pct", "daylight_factor_error_pct", *split,
                 *[f"share_of_hours_{lx:g}lx" for lx in lux], *[f"share_of_hours_{lx:g}lx_error" for lx in lux]])
     for room in report["rooms"]:
         sec = assessed(room.get("daylight"))
@@ -59,8 +61,8 @@ def daylight_points_csv(report: dict) -> str:
         for p in sec["points"]:
             sh, se = p.get("share_of_hours", {}), p.get("share_of_hours_error", {})
             w.writerow([room["name"], sec["method"], *p["point"], p.get("daylight_factor_pct", ""),
-                        p.get("daylight_factor_error_pct", ""), *[sh.get(f"{lx:g}", "") for lx in lux],
-                        *[se.get(f"{lx:g}", "") for lx in lux]])
+                        p.get("daylight_factor_error_pct", ""), *[p.get(k, "") for k in split],
+                        *[sh.get(f"{lx:g}", "") for lx in lux], *[se.get(f"{lx:g}", "") for lx in lux]])
     return buf.getvalue()
 
 

@@ -24,7 +24,7 @@ import numpy as np
 
 #: Default error targets per kind of quantity (overridable with ``--target kind=value``).
 TARGETS = {"angle_deg": 0.01, "solid_angle_sr": 1e-3, "distance_m": 1e-3, "sun_time_s": 2.0, "share_pp": 5.0,
-           "daylight_factor_pct": 0.1, "share_of_hours": 0.02}
+           "daylight_factor_pct": 0.05, "sky_component_pct": 0.02, "share_of_hours": 0.01}
 
 #: Errors below this fraction of the target are round-off: left out of the order fit (so are
 #: errors below twice the reference run's own error estimate: they are not measurable).
@@ -48,13 +48,22 @@ QUANTITIES = {
     "distance": Quantity("distance", "distance_m", "view"),
     "share_medium": Quantity("share_medium", "share_pp", "view"),
     "sun_time": Quantity("sun_time", "sun_time_s", "sunlight"),  # the hours of sun, its error in seconds
-    # daylight provision: D per point (method 1) or the share of daylight hours per point and target (method 2)
+    # daylight provision: D per point and its two parts (method 1) or the share of daylight hours per
+    # point and target (method 2)
     "daylight_factor": Quantity("daylight_factor", "daylight_factor_pct", "daylight"),
+    "sky_component": Quantity("sky_component", "sky_component_pct", "daylight"),
+    "reflected": Quantity("reflected", "daylight_factor_pct", "daylight"),
     "share_of_hours": Quantity("share_of_hours", "share_of_hours", "daylight"),
 }
 
-#: The finer reference of the daylight ladders: more bounces and divisions than any rung.
-DAYLIGHT_REFERENCE = {"daylight.radiance.ab": 8, "daylight.radiance.ad": 4096, "daylight.radiance.replicates": 4}
+#: The daylight ladders' finer references: the sky component's cells half as large and its
+#: tolerance a tenth of the last rung's; the reflected part's paths four times as many.
+SKY_REFERENCE = {"daylight.sky_component.resolution_deg": 0.5, "daylight.sky_component.rel_tolerance": 0.0005,
+                 "daylight.sky_component.abs_tolerance_pct": 0.0005, "daylight.sky_component.refine_levels": 10}
+#: Every point traces max_rays paths (no stopping early), so that the rungs are what they say.
+PATHS_EXTRA = {"daylight.radiance.rel_tolerance": 0, "daylight.radiance.abs_tolerance_pct": 0,
+               "daylight.radiance.stop_clear_of_thresholds": False}
+PATHS_REFERENCE = {"daylight.radiance.max_rays": 16384, **PATHS_EXTRA}
 
 
 @dataclass(frozen=True)
@@ -89,10 +98,12 @@ LADDERS = (
     Ladder("sunlight.timestep_min", (60.0, 15.0, 5.0, 2.0, 1.0), {"sunlight.method": "exact", "sunlight.tolerance_s": 0.001},
            ("sun_time",), extra={"sunlight.tolerance_s": 0.01, "sunlight.method": "sampled"}),
     Ladder("sunlight.tolerance_s", (60.0, 10.0, 1.0, 0.1), {"sunlight.tolerance_s": 0.001}, ("sun_time",)),
-    # Radiance's ambient bounces and divisions against a run with more of both (Monte Carlo: the
-    # reference carries its own error estimate, which the error of a rung cannot go below)
-    Ladder("daylight.radiance.ab", (1, 2, 3, 5), DAYLIGHT_REFERENCE, ("daylight_factor", "share_of_hours")),
-    Ladder("daylight.radiance.ad", (128, 256, 512, 1024), DAYLIGHT_REFERENCE, ("daylight_factor", "share_of_hours")),
+    # daylight provision: the sky component's base cell (exact up to its bound), and the light paths of
+    # the reflected part per point (Monte Carlo: the reference carries its own error estimate, which
+    # the error of a rung cannot go below); method 2 traces max_rays / replicates per replicate
+    Ladder("daylight.sky_component.rel_tolerance", (0.05, 0.02, 0.005), SKY_REFERENCE, ("sky_component", "daylight_factor")),
+    Ladder("daylight.radiance.max_rays", (256, 1024, 4096), PATHS_REFERENCE, ("reflected", "daylight_factor", "share_of_hours"),
+           extra=PATHS_EXTRA),
 )
 
 
@@ -102,7 +113,7 @@ def fmt_value(v) -> str:
 
 #: The unit of each kind of error, for tables.
 UNITS = {"angle_deg": "deg", "solid_angle_sr": "sr", "distance_m": "m", "sun_time_s": "s", "share_pp": "pp",
-         "daylight_factor_pct": "%", "share_of_hours": ""}
+         "daylight_factor_pct": "% D", "sky_component_pct": "% D", "share_of_hours": ""}
 
 
 def rung_settings(lad: Ladder, value) -> str:
@@ -161,11 +172,15 @@ def _daylight_values(results: list) -> dict:
     """(values, error estimates) of D [%] and of the shares of hours [-] (every point and target),
     concatenated over rooms; empty for the method a project does not use."""
     cat = lambda xs: np.concatenate(xs) if xs else np.zeros(0)  # noqa: E731
-    df = [r.daylight_factor_pct for r in results if r.daylight_factor_pct is not None]
-    de = [r.daylight_factor_err_pct for r in results if r.daylight_factor_err_pct is not None]
+    def two(value, error):
+        return (cat([getattr(r, value) for r in results if getattr(r, value) is not None]),
+                cat([getattr(r, error) for r in results if getattr(r, error) is not None]))
+
     sh = [v for r in results if r.share_of_hours for v in r.share_of_hours.values()]
     se = [v for r in results if r.share_of_hours_err for v in r.share_of_hours_err.values()]
-    return {"daylight_factor": (cat(df), cat(de)), "share_of_hours": (cat(sh), cat(se))}
+    return {"daylight_factor": two("daylight_factor_pct", "daylight_factor_err_pct"),
+            "sky_component": two("sky_component_pct", "sky_component_bound_pct"),
+            "reflected": two("reflected_pct", "reflected_err_pct"), "share_of_hours": (cat(sh), cat(se))}
 
 
 def _view_values(results: list) -> dict:
@@ -251,6 +266,8 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
             for value in lad.values:  # one run per rung
                 vals, wall, rays = runner.run(check, {**lad.extra, lad.knob: value}, lad.per_point)
                 for q in lad.quantities:
+                    if not vals[q][0].size and not ref[q][0].size:
+                        continue  # a quantity the project's method does not give (shares of hours under method 1)
                     kind = QUANTITIES[q].kind
                     err = max_error(vals[q][0], ref[q][0])
                     est = float(np.nanmax(vals[q][1])) if vals[q][1].size and np.any(np.isfinite(vals[q][1])) else math.nan
@@ -262,6 +279,8 @@ def convergence(project_path: Path, out_dir: Path, ladders=LADDERS, targets: dic
             rows += rung_rows
             for q in lad.quantities:
                 qr = [r for r in rung_rows if r["quantity"] == q]
+                if not qr:
+                    continue
                 ref_est = ref[q][1][np.isfinite(ref[q][1])]
                 floor = max(ROUND_OFF * targets[QUANTITIES[q].kind], 2.0 * float(ref_est.max()) if ref_est.size else 0.0)
                 h = [2.0 ** -r["value"] if lad.levels else r["value"] for r in qr]

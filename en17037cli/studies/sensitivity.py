@@ -21,8 +21,8 @@ behind_member``           window's frame lies in front of P)
 ``view.mullions_block``   true (mullions and transoms cut the sight angle), false (the     sight angle
                           opening measured between its reveals)
 ``daylight.aggregation``  hours_first, points_first (method 2 only)                          daylight
-``daylight.radiance.ab``  3, 7 ambient bounces                                               daylight
-``daylight.radiance.ad``  256, 1024 ambient divisions                                        daylight
+``daylight.radiance.ab``  3, 7 bounces outside (Radiance, for what is seen through glass)    daylight
+``daylight.radiance.ad``  4, 16 hemisphere samples at each of those bounces                  daylight
 ``daylight.sky_subdiv``   Reinhart MF 2 (577 patches; method 2 only)                         daylight
 ``glare.facade_distance`` auto positions 0.5 and 2.0 m from the glazing                     glare
 ``glare.eye_height_m``    standing, 1.7 m                                                   glare
@@ -77,7 +77,7 @@ RANGES: dict[str, tuple] = {
     "view.mullions_block": (True, False),
     "daylight.aggregation": ("hours_first", "points_first"),
     "daylight.radiance.ab": (3, 7),
-    "daylight.radiance.ad": (256, 1024),
+    "daylight.radiance.ad": (4, 16),
     "daylight.sky_subdivision": (2,),
     **GLARE_RANGES,
 }
@@ -88,7 +88,7 @@ LABELS = {"sunlight.date": "assessed date", "sunlight.point_p": "point P", "sunl
           "view.distance_statistic": "distance statistic", "view.grid_offset": "grid offset",
           "view.grid_spacing_m": "grid spacing", "view.wall_margin_m": "wall margin",
           "view.mullions_block": "mullion reading", "daylight.aggregation": "aggregation order",
-          "daylight.radiance.ab": "ambient bounces", "daylight.radiance.ad": "ambient divisions",
+          "daylight.radiance.ab": "bounces outside", "daylight.radiance.ad": "samples per bounce outside",
           "daylight.sky_subdivision": "sky subdivision", **GLARE_LABELS}
 #: P moves this far [m].
 P_SHIFT_M = 0.1

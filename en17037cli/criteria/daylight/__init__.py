@@ -1,10 +1,13 @@
 """EN 17037 clause 5.1, Daylight provision: the reference plane's daylight factor (method 1) or its
-hourly illuminance over the daylight hours (method 2), with Radiance through pyradiance.
+hourly illuminance over the daylight hours (method 2), split as the standard's method splits it:
 
-* the scene as Radiance geometry and the runs: :mod:`.radiance`; the CIE overcast sky and the sky
-  component by our own integral: :mod:`.sky`; the weather: :mod:`en17037cli.weather.epw`
-* method 1: :func:`.assess.daylight_factor_room`; method 2: :mod:`.climate`
-* per room: :mod:`.assess` into :mod:`.results`; report section: :mod:`.report`
+* the sky component (light straight from the sky through the glazing), exact, with a bound:
+  :mod:`.sky_component` (the view engine's exact visibility and refinement, the CIE overcast
+  luminance and the glazing's angular transmittance of :mod:`.sky`);
+* the externally and internally reflected components on Radiance (pyradiance), with a statistical
+  interval: :mod:`.gather` (the scene as Radiance geometry and the runs: :mod:`.radiance`);
+* method 1: :func:`.assess.daylight_factor_room`; method 2: :mod:`.climate`; the weather:
+  :mod:`en17037cli.weather.epw`; per room into :mod:`.results`; report section: :mod:`.report`
 
 pyradiance is imported only when a project has a ``daylight`` section and the check runs.
 """
@@ -12,11 +15,14 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
+
 from en17037cli.criteria.base import Context, Criterion
 from en17037cli.criteria.daylight.assess import daylight_factor_room, reference_plane
 from en17037cli.criteria.daylight.results import DaylightResult
 from en17037cli.errors import InputError, NotAssessable
 from en17037cli.project.settings import DaylightSettings, Project
+from en17037cli.scene.model import room_window_group
 
 #: Horizontal illuminance of the overcast sky the daylight factors are computed under [lx]
 #: (any value: D is a ratio; 10 klx keeps Radiance's numbers near 1).
@@ -36,7 +42,7 @@ class DaylightCriterion(Criterion):
         return ctx.project.daylight
 
     def ray_groups(self, scene):
-        return []  # Radiance traces its own rays
+        return [room_window_group(r) for r in scene.rooms] + ["opaque"]  # the sky component's visibility
 
     def check_inputs(self, ctx: Context) -> dict[str, str]:
         from en17037cli.criteria.daylight.radiance import binpath
@@ -85,38 +91,115 @@ class DaylightCriterion(Criterion):
         """The scene with its sky, compiled once per run (``overcast``, ``sky`` patches, ``black``)."""
         key = f"daylight_octree_{kind}"
         if key not in ctx.cache:
-            from en17037cli.criteria.daylight import radiance
-
-            s = self._settings(ctx)
-            refl = dict(s.reflectance)
-            t = time.perf_counter()
-            scene = radiance.scene_text(ctx.scene, refl, s.glazing_transmittance, black=kind == "black")
-            if kind == "overcast":
-                sky = radiance.overcast_sky_text(SKY_LX, refl["ground"])
-            else:
-                from en17037cli.criteria.daylight.climate import patch_sky_text
-
-                sky = patch_sky_text()
-            ctx.cache[key] = radiance.Octree(scene, sky)
-            ctx.cache.setdefault("daylight_build_s", 0.0)
-            ctx.cache["daylight_build_s"] += time.perf_counter() - t
+            pending = ctx.cache.pop(f"{key}_pending", None)  # started by :meth:`octree_soon`
+            ctx.cache[key] = pending.result() if pending is not None else self._build_octree(ctx, kind)
         return ctx.cache[key]
+
+    def octree_soon(self, ctx: Context, kind: str = "overcast") -> None:
+        """Start compiling :meth:`octree` in a thread (``oconv`` runs while Python integrates the sky
+        component); :meth:`octree` waits for it."""
+        key = f"daylight_octree_{kind}"
+        if key in ctx.cache or f"{key}_pending" in ctx.cache:
+            return
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(1)
+        ctx.cache[f"{key}_pending"] = pool.submit(self._build_octree, ctx, kind)
+        pool.shutdown(wait=False)
+
+    def _build_octree(self, ctx: Context, kind: str):
+        from en17037cli.criteria.daylight import radiance
+
+        s = self._settings(ctx)
+        refl = dict(s.reflectance)
+        t = time.perf_counter()
+        scene = radiance.scene_text(ctx.scene, refl, s.glazing_transmittance, black=kind == "black")
+        files = None
+        if kind == "overcast":
+            sky, files = radiance.cie_overcast_sky_text(SKY_LX, refl["ground"]), radiance.sky_files()
+        else:
+            from en17037cli.criteria.daylight.climate import patch_sky_text, sink_point
+
+            sky = patch_sky_text(sink_point(ctx.scene))
+        octree = radiance.Octree(scene, sky, files=files)
+        ctx.cache["daylight_build_s"] = ctx.cache.get("daylight_build_s", 0.0) + time.perf_counter() - t
+        return octree
+
+    def sky(self, ctx: Context, room, points, bins=None, nbins: int = 0):
+        """The sky component of ``points`` (p, 3) [m, local] through ``room``'s windows (:mod:`.sky_component`;
+        ``bins``, ``nbins``: also per sky patch)."""
+        from en17037cli.criteria.daylight.sky_component import SkyTolerance, sky_component
+        from en17037cli.criteria.view.frames import room_geometry
+        from en17037cli.criteria.view.rays import ViewRays
+
+        c = self._settings(ctx).sky_component
+        tol = SkyTolerance(c.resolution_deg, c.refine_levels, c.rel_tolerance, c.abs_tolerance_pct / 100.0)
+        rg = room_geometry(ctx.scene, room, tol.frame_depth_m)
+        return sky_component(ViewRays(ctx.engine, ctx.scene), rg, points, self.window_tv(ctx, room), tol,
+                             bins=bins, nbins=nbins)
+
+    def window_tv(self, ctx: Context, room):
+        """(windows,) transmittance of each of ``room``'s windows (:func:`.sky_component.window_transmittance`)."""
+        from en17037cli.criteria.daylight.sky_component import window_transmittance
+
+        s = self._settings(ctx)
+        return window_transmittance(ctx.scene, room, dict(s.reflectance), s.glazing_transmittance)
+
+
+    def reflected(self, ctx: Context, room, points, sky=None):
+        """The reflected components at ``points``: light paths with next-event estimation through the
+        room's windows, what is outside from Radiance (:mod:`.transport`, :func:`.gather.reflected_paths`);
+        with the points' sky component ``sky``, a point stops early once its D is clear of every
+        threshold of Table A.1."""
+        from en17037cli.criteria.daylight.assess import targets
+        from en17037cli.criteria.daylight.gather import reflected_paths, sampling_frame
+
+        median, _ = self.median(ctx)
+        et, etm = targets(ctx.project.thresholds)
+        thresholds = sorted({v / median for v in (*et.values(), *etm.values())})
+        known = None if sky is None or not self._settings(ctx).radiance.stop_clear_of_thresholds else (sky.value, sky.bound)
+        return reflected_paths(self.paths_scene(ctx, room), self.octree(ctx), points, SKY_LX, self.gather_settings(ctx),
+                               sampling_frame(room.windows[0].normal), ctx.engine.threads, known, thresholds)
+
+    def gather_settings(self, ctx: Context):
+        from en17037cli.criteria.daylight.gather import GatherSettings
+
+        p = self._settings(ctx).radiance
+        return GatherSettings(p.rays, p.max_rays, p.rel_tolerance, p.abs_tolerance_pct / 100.0, p.ab, p.ad, p.lw,
+                              p.window_rays)
+
+    def paths_scene(self, ctx: Context, room):
+        """The light paths' view of the scene for ``room`` (:class:`.transport.Scene`)."""
+        from en17037cli.criteria.daylight import radiance
+        from en17037cli.criteria.daylight.transport import Scene
+        from en17037cli.criteria.view.frames import window_frame
+
+        s = self._settings(ctx)
+        kind, value = radiance.face_optics(ctx.scene, dict(s.reflectance), s.glazing_transmittance)
+        rho = np.where(kind == 5, 0.0, value)
+        tv = np.where(kind == 5, value, 0.0)
+        return Scene(ctx.engine, ctx.scene, room, rho, tv, [window_frame(w, i) for i, w in enumerate(room.windows)],
+                     s.radiance.window_rays)
 
     def assess(self, ctx: Context, room, plan, progress=None) -> DaylightResult:
         s = self._settings(ctx)
         median, source = self.median(ctx)
         p = s.radiance
-        params = {"ab": p.ab, "ad": p.ad, "as": p.as_, "lw": p.lw, "replicates": p.replicates}
+        params = {"ab": p.ab, "ad": p.ad, "as": p.as_, "lw": p.lw, "rays": p.rays, "max_rays": p.max_rays,
+                  "rel_tolerance": p.rel_tolerance, "abs_tolerance_pct": p.abs_tolerance_pct, "window_rays": p.window_rays,
+                  "stop_clear_of_thresholds": p.stop_clear_of_thresholds}
         t = time.perf_counter()
         if s.method == "daylight_factor":
-            from en17037cli.criteria.daylight.radiance import irradiance
-
-            e = irradiance(self.octree(ctx), plan, p.ab, p.ad, p.as_, p.lw, p.replicates)
-            res = daylight_factor_room(plan, e, SKY_LX, median, source, ctx.project.thresholds, params)
+            self.octree_soon(ctx)
+            sc = self.sky(ctx, room, plan)
+            t_sky = time.perf_counter() - t
+            refl = self.reflected(ctx, room, plan, sc)
+            res = daylight_factor_room(plan, sc, refl, median, source, ctx.project.thresholds, params)
+            res.radiance["sky_time_s"] = t_sky
         else:
             from en17037cli.criteria.daylight.climate import climate_room
 
-            res = climate_room(self, ctx, plan, s, median, source, params)
+            res = climate_room(self, ctx, room, plan, s, median, source, params)
         res.radiance["time_s"] = time.perf_counter() - t
         if progress:
             progress(len(plan))

@@ -70,19 +70,22 @@ def judge(target_share, minimum_share, target_err, minimum_err) -> tuple[int, bo
     return level, near
 
 
-def daylight_factor_room(points: np.ndarray, e_lx_reps: np.ndarray, sky_lx: float, median_lx: float, source: str,
+def daylight_factor_room(points: np.ndarray, sky, refl, median_lx: float, source: str,
                          thresholds: Thresholds, radiance: dict) -> DaylightResult:
     """Method 1 (clause 5.1, Annex A): D = E / E_sky on the grid under the CIE overcast sky; a level is
     met when D >= D_T = E_T / E_v,d,med on 50 % of the plane and D >= D_TM = E_TM / E_v,d,med on 95 %.
 
+    D = SC + R: the sky component ``sky`` (:class:`~.sky_component.SkyComponent`: value and a bound)
+    and the reflected components ``refl`` (:class:`~.gather.Reflected`: value and the half-width of a
+    99 % interval), both fractions of the unobstructed horizontal illuminance. The error of D is the
+    bound plus the interval.
+
     Parameters
     ----------
-    points : (n, 3) [m]; e_lx_reps : (n, r) [lx] independent estimates of the illuminance at each
-    point under a sky giving ``sky_lx`` [lx] on an unobstructed horizontal plane
-    median_lx : E_v,d,med [lx]
+    points : (n, 3) [m]; median_lx : E_v,d,med [lx]
     """
-    df_reps = 100.0 * e_lx_reps / sky_lx
-    df, err = mean_and_error(df_reps)
+    df = 100.0 * (sky.value + refl.value)
+    err = 100.0 * (sky.bound + refl.error)
     et, etm = targets(thresholds)
     share, share_m, e_share, e_share_m = {}, {}, {}, {}
     for name in LEVELS[1:]:
@@ -95,8 +98,10 @@ def daylight_factor_room(points: np.ndarray, e_lx_reps: np.ndarray, sky_lx: floa
     level, near = judge(share, share_m, e_share, e_share_m)
     return DaylightResult(method="daylight_factor", points_local=points, median_diffuse_lx=median_lx, median_source=source,
                           target_share=share, minimum_share=share_m, target_share_err=e_share, minimum_share_err=e_share_m,
-                          level=level, near_threshold=near, radiance=radiance, daylight_factor_pct=df,
-                          daylight_factor_err_pct=err)
+                          level=level, near_threshold=near, radiance=radiance | {"rays": int(refl.rays.sum())},
+                          daylight_factor_pct=df, daylight_factor_err_pct=err, sky_component_pct=100.0 * sky.value,
+                          sky_component_bound_pct=100.0 * sky.bound, reflected_pct=100.0 * refl.value,
+                          reflected_err_pct=100.0 * refl.error)
 
 
 def share_above(e_lx: np.ndarray, threshold_lx: float) -> np.ndarray:

@@ -13,20 +13,27 @@ from en17037cli.standard import LEVELS
 DAYLIGHT_METHODS = {
     "daylight_factor": (
         "EN 17037 method 1: daylight factor D = E / E_sky on the reference plane under the CIE standard overcast sky "
-        "(gensky -c, ground below the horizon at daylight.reflectance.ground), by Radiance rtrace -I+ (no ambient cache, "
-        "uncorrelated sampling) with daylight.radiance -ab/-ad/-as/-lw, each point traced daylight.radiance.replicates "
-        "times independently; D_T = E_T / E_v,d,med, D_TM = E_TM / E_v,d,med; error of D = half-width of the 95 % "
-        "confidence interval of the replicates' mean (Monte Carlo noise; the bias of a finite -ab is what "
-        "'en17037 study convergence' measures); error of a share = share of the points whose D lies within its "
-        "error of the threshold"),
+        "(L = L_z (1 + 2 sin γ) / 3; ground below the horizon at daylight.reflectance.ground), split as D = SC + R. "
+        "SC, the sky component (light straight from the sky through the glazing, its angular transmittance "
+        "Radiance's glass): exact visibility on the windows' gnomonic grids (frames, reveals, obstructions), cells "
+        "integrated by Gauss-Legendre and split where the sky's edge crosses them (daylight.sky_component); its "
+        "error is a bound. R, the externally and internally reflected components: light paths from each point "
+        "(daylight.radiance.rays cosine-weighted stratified directions, more up to max_rays until the interval is within "
+        "max(rel_tolerance R, abs_tolerance_pct) or D is clear of every threshold), bouncing off the room's grey "
+        "Lambertian surfaces with Russian roulette, the light through the glazing taken at every bounce by directions "
+        "aimed through the windows (the CIE sky by its formula, what is outside by Radiance rtrace); its error is the "
+        "half-width of a 99 % confidence interval over the paths (statistical). Error of D = the bound plus the "
+        "interval; D_T = E_T / E_v,d,med, D_TM = E_TM / E_v,d,med; error of a share = share of the points whose D "
+        "lies within its error of the threshold"),
     "climate_based": (
         "EN 17037 method 2: hourly illuminance of the 4380 daylight hours (the half of the year with the highest "
-        "diffuse horizontal illuminance in the weather file) from daylight coefficients: Radiance rcontrib against a "
-        "Reinhart sky of daylight.sky_subdivision (with daylight.radiance -ab/-ad/-lw) times gendaymtx's sky without "
-        "the sun, plus the sun: sun coefficients (rcontrib -ab 0 to suns at the Reinhart daylight.sun_subdivision "
-        "patch centres) times gendaymtx -d, and its reflected part from the daylight coefficients less their direct "
-        "part (rcontrib -ab 1 in a black scene); shares by daylight.aggregation; error of a share = half-width of the "
-        "95 % confidence interval over the replicates of the daylight coefficients"),
+        "diffuse horizontal illuminance in the weather file), split as method 1: the sky straight through the glazing "
+        "per Reinhart patch of daylight.sky_subdivision by the sky component's exact integration, times gendaymtx's "
+        "sky without the sun; the direct sun by a ray to its centre each hour through the glazing (exact visibility), "
+        "its direct normal illuminance from gendaymtx; the reflected light from daylight coefficients of method 1's "
+        "light paths (daylight.radiance.climate_rays per point and replicate; what is outside by Radiance rcontrib) "
+        "times gendaymtx's sky with the sun; shares by daylight.aggregation; error of a share = half-width of the 95 % "
+        "confidence interval over the replicates of the paths (the direct parts are exact)"),
 }
 
 
@@ -53,6 +60,11 @@ def daylight_section(scene: Scene, res: DaylightResult, required: str, settings:
         if res.daylight_factor_pct is not None:
             p["daylight_factor_pct"] = json_number(res.daylight_factor_pct[i], 4)
             p["daylight_factor_error_pct"] = json_number(res.daylight_factor_err_pct[i], 4)
+        if res.sky_component_pct is not None:
+            p["sky_component_pct"] = json_number(res.sky_component_pct[i], 4)
+            p["sky_component_bound_pct"] = json_number(res.sky_component_bound_pct[i], 5)
+            p["reflected_pct"] = json_number(res.reflected_pct[i], 4)
+            p["reflected_error_pct"] = json_number(res.reflected_err_pct[i], 4)
         if res.share_of_hours is not None:
             p["share_of_hours"] = {f"{lx:g}": json_number(v[i], 4) for lx, v in res.share_of_hours.items()}
             p["share_of_hours_error"] = {f"{lx:g}": json_number(v[i], 4) for lx, v in res.share_of_hours_err.items()}
@@ -70,7 +82,7 @@ def daylight_section(scene: Scene, res: DaylightResult, required: str, settings:
         by_level[name] = entry
     limit = standard.daylight_limit(res.target_share, res.minimum_share, res.level, required)
     df = res.daylight_factor_pct
-    rad = {k: v for k, v in res.radiance.items() if k != "time_s"}
+    rad = {k: v for k, v in res.radiance.items() if not k.endswith("time_s")}
     out = {
         "level": level,
         "required": required,
@@ -93,6 +105,11 @@ def daylight_section(scene: Scene, res: DaylightResult, required: str, settings:
     if df is not None and len(df):
         out["error_estimates"]["max_daylight_factor_error_pct"] = json_number(float(res.daylight_factor_err_pct.max()), 4)
         out["median_daylight_factor_pct"] = json_number(float(_median(df)), 4)
+    if res.sky_component_pct is not None and len(df):
+        out["error_estimates"]["max_sky_component_bound_pct"] = json_number(float(res.sky_component_bound_pct.max()), 5)
+        out["error_estimates"]["max_reflected_error_pct"] = json_number(float(res.reflected_err_pct.max()), 4)
+        out["error_estimates"]["kinds"] = {"sky_component": "bound", "reflected": "99 % confidence interval"}
+        out["error_estimates"]["sky_component"] = dict(settings.sky_component.__dict__)
     if res.method == "climate_based":
         out["aggregation"] = res.aggregation
         out["daylight_hours"] = res.hours

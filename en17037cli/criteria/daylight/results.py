@@ -13,8 +13,12 @@ class DaylightResult:
     method : ``daylight_factor`` or ``climate_based``
     points_local : (n, 3) float [m], the grid on the reference plane
     median_diffuse_lx, median_source : E_v,d,med [lx] and where it came from
-    daylight_factor_pct, daylight_factor_err_pct : (n,) [%], method 1 (None for method 2): D and the
-        half-width of its 95 % confidence interval over the Radiance replicates
+    daylight_factor_pct, daylight_factor_err_pct : (n,) [%], method 1 (None for method 2): D = SC + R
+        and its error, the sky component's bound plus the reflected part's 99 % interval
+    sky_component_pct, sky_component_bound_pct : (n,) [%], method 1: the sky component (exact) and
+        the bound on its error
+    reflected_pct, reflected_err_pct : (n,) [%], method 1: the reflected components (Radiance) and the
+        half-width of their 99 % confidence interval
     illuminances_lx : the distinct target illuminances of Table A.1, ascending [lx]
     share_of_hours, share_of_hours_err : lx -> (n,) share of the daylight hours each point reaches
         that illuminance, and its error estimate, method 2 (None for method 1)
@@ -37,6 +41,10 @@ class DaylightResult:
     radiance: dict
     daylight_factor_pct: np.ndarray | None = None
     daylight_factor_err_pct: np.ndarray | None = None
+    sky_component_pct: np.ndarray | None = None
+    sky_component_bound_pct: np.ndarray | None = None
+    reflected_pct: np.ndarray | None = None
+    reflected_err_pct: np.ndarray | None = None
     illuminances_lx: tuple[float, ...] = ()
     share_of_hours: dict[float, np.ndarray] | None = None
     share_of_hours_err: dict[float, np.ndarray] | None = None

@@ -6,6 +6,8 @@ through the openings, unobstructed and before the glazing's transmittance.
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from en17037cli.geometry.solid_angle import triangle_solid_angle
@@ -102,3 +104,87 @@ def sky_component(points, triangles, subdivisions: int = 24, normal=(0.0, 0.0, 1
         w = np.where((sin_alt > 0) & (cos_t > 0), cie_overcast_luminance(np.arcsin(np.clip(sin_alt, -1, 1))) * cos_t, 0.0)
         out[a:a + 16] = (omega * w).sum(axis=1) / (7.0 * np.pi / 9.0)
     return out
+
+
+#: Refractive index of Radiance's ``glass`` (its default; the manual's 1.52).
+GLASS_INDEX = 1.52
+#: Glazing whose normal-hemispherical transmittance is at least this is an open opening (no glass).
+OPEN_TV = 0.999
+
+
+def glass_transmittance(cos_i, tv) -> np.ndarray:
+    """Transmittance of Radiance's ``glass`` at incidence cos i, given its normal transmittance tv.
+
+    A thin pane of index n = 1.52 with transmissivity tn (:func:`~.radiance.glass_transmissivity`
+    of tv) and its internal reflections, averaged over the two polarisations (Radiance's
+    ``m_glass``): cos t = sqrt(1 - (1 - cos² i) / n²), d = tn^(1 / cos t),
+    r_s = ((cos i - n cos t) / (cos i + n cos t))², r_p = ((1/cos i - n/cos t) / (1/cos i + n/cos t))²,
+    τ = ½ (1 - r_s)² d / (1 - r_s² d²) + ½ (1 - r_p)² d / (1 - r_p² d²). τ(1) = tv; 1 where tv is
+    at least :data:`OPEN_TV` (an open opening).
+
+    Parameters
+    ----------
+    cos_i : array, cosine of the angle between the ray and the pane's normal, in (0, 1]
+    tv : array broadcast against it, normal-hemispherical transmittance in [0, 1]
+
+    Returns
+    -------
+    array [-]
+
+    References
+    ----------
+    Radiance ``src/rt/glass.c`` (G. Ward, LBNL) and the reference manual, "Glass".
+    """
+    from en17037cli.criteria.daylight.radiance import glass_transmissivity
+
+    c = np.clip(np.asarray(cos_i, dtype=float), 1e-9, 1.0)
+    tv = np.asarray(tv, dtype=float)
+    n = GLASS_INDEX
+    tn = np.clip(glass_transmissivity(np.where(tv >= OPEN_TV, 0.5, tv)), 1e-15, 1.0)
+    cos_t = np.sqrt((1.0 - 1.0 / (n * n)) + c * c / (n * n))
+    d = tn ** (1.0 / cos_t)
+    rs = ((c - n * cos_t) / (c + n * cos_t)) ** 2
+    rp = ((1.0 / c - n / cos_t) / (1.0 / c + n / cos_t)) ** 2
+    tau = 0.5 * (1 - rs) ** 2 * d / (1 - rs * rs * d * d) + 0.5 * (1 - rp) ** 2 * d / (1 - rp * rp * d * d)
+    return np.where(tv >= OPEN_TV, 1.0, np.where(tv > 0, tau, 0.0))
+
+
+#: Knots of :func:`transmittance_table` in cos i (uniform on [0, 1]).
+TABLE_KNOTS = 4097
+
+
+@functools.lru_cache(maxsize=64)
+def transmittance_table(tv: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """:func:`glass_transmittance` of ``tv`` tabulated on :data:`TABLE_KNOTS` uniform knots of cos i,
+    for linear interpolation (``np.interp``), and the largest error of that interpolation [-]: the
+    largest difference from the formula at the midpoints between knots (where linear interpolation
+    errs most, by h² |τ''| / 8), doubled. Returns (knots, values, error)."""
+    c = np.linspace(0.0, 1.0, TABLE_KNOTS)
+    t = glass_transmittance(c, tv)
+    mid = 0.5 * (c[1:] + c[:-1])
+    err = 2.0 * float(np.max(np.abs(glass_transmittance(mid, tv) - 0.5 * (t[1:] + t[:-1]))))
+    return c, t, err
+
+
+def glass_reflectance(cos_i, tv) -> np.ndarray:
+    """Reflectance of Radiance's ``glass`` at incidence cos i, given its normal transmittance tv (the
+    same pane as :func:`glass_transmittance`): with d = tn^(1 / cos t),
+    ρ = ½ r_s (1 + (1 - 2 r_s) d²) / (1 - r_s² d²) + ½ r_p (1 + (1 - 2 r_p) d²) / (1 - r_p² d²);
+    0 for an open opening (tv at least :data:`OPEN_TV`).
+
+    References
+    ----------
+    Radiance ``src/rt/glass.c`` (``m_glass``: the reflected ray's coefficient).
+    """
+    from en17037cli.criteria.daylight.radiance import glass_transmissivity
+
+    c = np.clip(np.asarray(cos_i, dtype=float), 1e-9, 1.0)
+    tv = np.asarray(tv, dtype=float)
+    n = GLASS_INDEX
+    tn = np.clip(glass_transmissivity(np.where(tv >= OPEN_TV, 0.5, tv)), 1e-15, 1.0)
+    cos_t = np.sqrt((1.0 - 1.0 / (n * n)) + c * c / (n * n))
+    d2 = (tn ** (1.0 / cos_t)) ** 2
+    rs = ((c - n * cos_t) / (c + n * cos_t)) ** 2
+    rp = ((1.0 / c - n / cos_t) / (1.0 / c + n / cos_t)) ** 2
+    rho = 0.5 * rs * (1 + (1 - 2 * rs) * d2) / (1 - rs * rs * d2) + 0.5 * rp * (1 + (1 - 2 * rp) * d2) / (1 - rp * rp * d2)
+    return np.where(tv >= OPEN_TV, 0.0, rho)
