@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import click
 
-from en17037cli import __version__
 from en17037cli.commands.batch import batch
 from en17037cli.commands.check import check
 from en17037cli.commands.compare import compare
@@ -16,6 +15,7 @@ from en17037cli.commands.errors import Group
 from en17037cli.commands.schema import schema
 from en17037cli.commands.study import study
 from en17037cli.commands.validate import validate
+from en17037cli.version import __version__
 
 
 @click.group(cls=Group, context_settings={"help_option_names": ["-h", "--help"]})
