@@ -10,8 +10,8 @@ import uuid
 from dataclasses import dataclass
 from pathlib import Path
 
+from en17037cli.budget import MAX_POINTS
 from en17037cli.errors import InputError
-from en17037cli.preflight import MAX_POINTS
 
 #: A project with at most this many rooms is one unit of work; a larger one goes out in groups of
 #: this many rooms (small enough to spread a building over the workers, large enough that sending

@@ -37,7 +37,7 @@ def batch(projects, variants, out_dir: Path, jobs, scheduler, only, overrides, m
     with its message and the others go on; the exit code is the worst of the runs.
     """
     from en17037cli import batch as b
-    from en17037cli.preflight import MAX_POINTS
+    from en17037cli.budget import MAX_POINTS
     from en17037cli.report.folder import check_file
 
     def prepare():

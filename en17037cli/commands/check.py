@@ -29,7 +29,7 @@ from en17037cli.terminal import annotate, comparison_table, progress_factory, su
 def check(project_file: Path, out_dir, only, overrides, max_points, baseline, junit, no_plots, quiet, as_json):
     """Run the checks of PROJECT_FILE and write the reports."""
     from en17037cli import pipeline
-    from en17037cli.preflight import MAX_POINTS
+    from en17037cli.budget import MAX_POINTS
     from en17037cli.project import load_project
     from en17037cli.report.document import build_report
     from en17037cli.report.figures import pictures_available, render_figures

@@ -26,8 +26,9 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
     Prints faces per layer, each room's floor, ceiling and the windows that bound it (and why),
     rooms and windows that cannot be assessed, and warnings.
     """
+    from en17037cli.budget import MAX_POINTS
     from en17037cli.criteria import Context
-    from en17037cli.preflight import MAX_POINTS, preflight
+    from en17037cli.pipeline import before_criteria
     from en17037cli.project import load_project
     from en17037cli.raytrace import RayEngine
     from en17037cli.scene import build_scene
@@ -37,19 +38,19 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
         scene = build_scene(project)
         with RayEngine(scene.vertices, scene.triangles, scene.ray_groups()) as engine:
             ctx = Context(project, scene, engine)
-            pf = preflight(ctx, max_points or MAX_POINTS)
+            cost, pf = before_criteria(ctx, max_points or MAX_POINTS)
             if plan_dir is not None:
                 from en17037cli.plan_pictures import draw_understood
 
                 plans.extend(draw_understood(ctx, plan_dir))
-            return project, scene, pf
+            return project, scene, cost, pf
 
     plans: list[str] = []
-    project, scene, pf = guard(run)
+    project, scene, cost, pf = guard(run)
     if as_json:
         from en17037cli.report.validation import validation_document
 
-        click.echo(json.dumps(validation_document(project_file, project, scene, pf, max_points or MAX_POINTS), indent=2,
+        click.echo(json.dumps(validation_document(project_file, project, scene, pf, cost, max_points or MAX_POINTS), indent=2,
                               ensure_ascii=False))
         return
     click.echo(f"{project_file}: valid")
@@ -60,8 +61,8 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
 
     for line in location_lines(project, scene):  # where the run takes the site and north from
         click.echo(line)
-    if pf.points:
-        click.echo(f"estimated cost: {pf.points:,} viewpoints, {pf.cells:,.0f} sampling cells (budget {max_points or MAX_POINTS:,} viewpoints)")
+    if cost.points:
+        click.echo(f"estimated cost: {cost.points:,} viewpoints, {cost.cells:,.0f} sampling cells (budget {max_points or MAX_POINTS:,} viewpoints)")
     bounding = set()
     storey = None
     for room in scene.rooms:
