@@ -19,7 +19,9 @@ Heavy modules load on first call, so ``import en17037cli`` stays cheap.
 """
 from __future__ import annotations
 
-__version__ = "0.1.0"
+from en17037cli.version import __version__
+
+__all__ = ["Session", "__version__", "load_project", "run", "write_reports"]
 
 
 def load_project(path, overrides=()):

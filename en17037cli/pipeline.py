@@ -1,8 +1,10 @@
 """Running a project: project settings -> scene -> criteria -> a typed result the reports format.
 
-Criteria run only when the project asks for them (and ``only`` allows); the ray engine's
-acceleration structures are built once per run (a :class:`Session`) and shared by every criterion
-and room.
+A run reads the scene, holds it to the budget (:mod:`en17037cli.budget`), builds one ray engine,
+finds what it can before the criteria (:func:`before_criteria`: the budget, then the preflight and
+each criterion's own input checks), then assesses each room with each criterion. Criteria run only
+when the project asks for them (and ``only`` allows); the ray engine's acceleration structures are
+built once per run (a :class:`Session`) and shared by every criterion and room.
 """
 from __future__ import annotations
 
@@ -11,19 +13,15 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from en17037cli import standard
+from en17037cli.budget import ANNOUNCE_S, MAX_POINTS, Cost, check_budget, estimate_seconds, reading_note
 from en17037cli.criteria import CRITERIA, Context, Criterion, Unassessed
 from en17037cli.dwellings import Dwelling
 from en17037cli.errors import NotAssessable
-from en17037cli.preflight import ANNOUNCE_S, MAX_POINTS, estimate_seconds, preflight
+from en17037cli.preflight import Preflight, preflight
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene import build_scene
 from en17037cli.scene.model import Room, Scene
-
-#: Model files larger than this together are announced before they are read [bytes] ...
-LARGE_MODEL_BYTES = 5_000_000
-#: ... with about this many seconds a megabyte (ifcopenshell's tessellation of a Revit IFC, 2 cores).
-READ_SECONDS_PER_MB = 2.5
 
 #: progress(total, label) -> advance(n): how the CLI draws progress bars
 Progress = Callable[[int, str], Callable[[int], None]]
@@ -199,6 +197,16 @@ def _plan(c: Criterion, ctx: Context, room: Room):
         return Unassessed("not_assessable", str(exc))
 
 
+def before_criteria(ctx: Context, max_points: int = MAX_POINTS) -> tuple[Cost, Preflight]:
+    """What a run finds before its criteria, in order: its size against the budget (an input error
+    over it, before any ray: :func:`~en17037cli.budget.check_budget`), then the preflight (warnings,
+    dwellings, each criterion's input checks, the windows no ray leaves through:
+    :func:`~en17037cli.preflight.preflight`). ``check`` (a :class:`Session`) and ``validate`` both
+    call it, so ``validate`` says what ``check`` will say."""
+    cost = check_budget(ctx.project, ctx.scene, max_points)
+    return cost, preflight(ctx)
+
+
 @dataclass
 class RoomAssessment:
     """What assessing one room produced: each chosen criterion's result, its wall time [s] and the
@@ -221,7 +229,7 @@ class Session:
     Parameters
     ----------
     only : a criterion name (``view``, ``sunlight``), or None for every criterion the project asks for
-    max_points : the viewpoint budget (see :func:`~en17037cli.preflight.check_budget`)
+    max_points : the viewpoint budget (see :func:`~en17037cli.budget.check_budget`)
     threads : ray-tracing threads (see :class:`~en17037cli.raytrace.RayEngine`)
 
     Raises :class:`~en17037cli.errors.InputError` for bad input, before any criterion. Use as a
@@ -238,7 +246,7 @@ class Session:
         self.engine = RayEngine(self.scene.vertices, self.scene.triangles, self.scene.ray_groups(), threads=threads)
         try:
             self.context = Context(project, self.scene, self.engine)
-            self.checks = preflight(self.context, max_points)  # input errors stop the run here, before any criterion
+            self.cost, self.checks = before_criteria(self.context, max_points)  # input errors stop the run here, before any criterion
             groups = [g for c in self.chosen for g in c.ray_groups(self.scene)]
             self.engine.prepare(list(dict.fromkeys(groups)))  # built once, shared by every criterion and room
         except BaseException:
@@ -333,27 +341,24 @@ def run(project: Project, only: str | None = None, progress: Progress | None = N
     ----------
     only : a criterion name (``view``, ``sunlight``), or None for every criterion the project asks for
     progress : optional progress-bar factory (see :data:`Progress`)
-    max_points : the viewpoint budget (see :func:`~en17037cli.preflight.check_budget`)
+    max_points : the viewpoint budget (see :func:`~en17037cli.budget.check_budget`)
     threads : ray-tracing threads [default: ``EN17037_THREADS``, else every core]
     pictures : also trace what the report's pictures need (:meth:`Criterion.illustrate`), stage ``pictures``
     notify : optional ``notify(line)``: told what a long run is about to do (a large model read, the
-        estimated time of the criteria: :func:`~en17037cli.preflight.estimate_seconds`)
+        estimated time of the criteria: :func:`~en17037cli.budget.estimate_seconds`)
     """
-    if notify is not None:
-        size = sum(f.path.stat().st_size for f in project.model.files if f.path.is_file())
-        if size > LARGE_MODEL_BYTES:
-            notify(f"reading {len(project.model.files)} model file(s), {size / 1e6:.0f} MB: about "
-                   f"{size / 1e6 * READ_SECONDS_PER_MB:.0f} s before the checks start")
+    if notify is not None and (note := reading_note(project)) is not None:
+        notify(note)
     with Session(project, only, max_points, threads) as session:
         if notify is not None:
-            est = estimate_seconds(project, session.scene, session.checks)
+            est = estimate_seconds(project, session.scene, session.cost)
             chosen = {c.name for c in session.chosen}
             total = sum(v for k, v in est.items() if k in chosen)
             if total > ANNOUNCE_S:
                 parts = ", ".join(f"{k} ~{v:.0f} s" for k, v in est.items() if k in chosen)
                 n = len(session.scene.rooms)
-                notify(f"{n} room{'s' * (n != 1)}, {session.checks.points:,} viewpoints, "
-                       f"{session.checks.cells / 1e6:,.1f} M view cells: about {total:.0f} s of work ({parts}; a rough "
+                notify(f"{n} room{'s' * (n != 1)}, {session.cost.points:,} viewpoints, "
+                       f"{session.cost.cells / 1e6:,.1f} M view cells: about {total:.0f} s of work ({parts}; a rough "
                        "estimate, the progress shows the time left)")
         result = session.result(session.assess(progress=progress))
         if pictures:

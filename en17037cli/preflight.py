@@ -1,9 +1,10 @@
 """Checks before any result: what ``validate`` reports and what ``check`` finds before its criteria run.
 
-Both commands call :func:`preflight`, so ``validate`` says what ``check`` will say, in the same
-words: input errors (exit 2) for contradictions in the project file and for runs over the cost
-budget; warnings for windows no ray can leave through; and, per room and criterion, why it
-cannot be assessed.
+Both commands call :func:`preflight` (after the run's budget, :mod:`en17037cli.budget`: see
+:func:`en17037cli.pipeline.before_criteria`), so ``validate`` says what ``check`` will say, in the
+same words: input errors (exit 2) for contradictions in the project file (each criterion finds
+its own: :meth:`~en17037cli.criteria.base.Criterion.check_inputs`); warnings for windows no ray
+can leave through; and, per room and criterion, why it cannot be assessed.
 """
 from __future__ import annotations
 
@@ -12,34 +13,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from en17037cli.criteria import CRITERIA, Context
-from en17037cli.criteria.view.viewpoints import grid_lines, grid_tolerance
 from en17037cli.dwellings import group_dwellings
-from en17037cli.errors import InputError
 from en17037cli.geometry import window_axes
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import Scene, room_window_group
 from en17037cli.scene.windows import describe_part, glazing_grid
-
-#: Default budget: viewpoints of a run (all rooms and eye heights). A viewpoint's results take
-#: about 10 kB in memory and in report.json, so this keeps a check within about 2 GB.
-MAX_POINTS = 100_000
-#: Sampling cells per viewpoint the budget allows on average (the seed office needs about 9,000).
-CELLS_PER_POINT = 20_000
-#: Sun samples of one room (days x samples a day) the budget allows.
-MAX_SUN_SAMPLES = 20_000_000
-
-
-#: Rough costs for the estimate shown before a long run (CPU seconds on one core of this project's
-#: 2-core test machine, fitted on the corpus of real exports, docs/performance.md): a sampling cell
-#: of the view's solid angles traced, a viewpoint whose solid angles are not traced (no landscape),
-#: a point P's day-by-day sun, a daylight grid point. The run's own bar then shows the time left.
-SECONDS_PER_CELL = 8e-6
-SECONDS_PER_VIEWPOINT = 1e-3
-SECONDS_PER_POINT_P = 0.3
-SECONDS_PER_DAYLIGHT_POINT = 0.02
-#: A run estimated to take longer than this says so before its work [s].
-ANNOUNCE_S = 10.0
 
 
 @dataclass
@@ -48,69 +27,12 @@ class Preflight:
 
     warnings : one line each, for the report and ``validate``
     unassessable : criterion -> room name -> reason found without a ray
-    points, cells : estimated viewpoints and sampling cells of the run
     dwellings : the rooms grouped into dwellings (see :mod:`en17037cli.dwellings`)
     """
 
     warnings: list[str] = field(default_factory=list)
     dwellings: list = field(default_factory=list)
     unassessable: dict[str, dict[str, str]] = field(default_factory=dict)
-    points: int = 0
-    cells: float = 0.0
-
-
-def estimate_room_points(room, settings) -> int:
-    """Viewpoints of a room before making them: explicit points, or the grid over the floor's
-    minimum rotated rectangle at each eye height (what the grid allocates)."""
-    import shapely
-
-    if room.spec.view_points is not None:
-        return len(room.spec.view_points)
-    if room.floor.is_empty:
-        return 0
-    rect = np.asarray(shapely.minimum_rotated_rectangle(room.floor).exterior.coords)[:3]
-    sides = np.linalg.norm(np.diff(rect, axis=0), axis=1)
-    s = settings.grid_spacing_m
-    per_height = np.prod(grid_lines(sides, s, grid_tolerance(sides.max(), s)).astype(float))
-    return int(min(per_height * len(settings.eye_heights_m), 1e15))
-
-
-def estimate_cells_per_point(room, settings) -> float:
-    """Sampling cells of one viewpoint: the windows' solid angle seen from the floor's centroid at
-    the first eye height [sr] over the cell size [sr]. An estimate, for the budget only."""
-    if room.floor.is_empty or not room.windows:
-        return 0.0
-    c = np.array([room.floor.centroid.x, room.floor.centroid.y, room.floor_z + settings.eye_heights_m[0]])
-    omega = sum(min(2 * np.pi, w.area_m2 * abs(np.dot(w.normal, (w.centroid - c))) / max(np.linalg.norm(w.centroid - c), 0.1) ** 3)
-                for w in room.windows)
-    return omega / np.radians(settings.angular_resolution_deg) ** 2
-
-
-def check_budget(project: Project, scene: Scene, max_points: int) -> tuple[int, float]:
-    """Raise :class:`InputError` when the run's estimated viewpoints, cells or sun samples exceed
-    the budget (``--max-points`` raises it); return (points, cells)."""
-    where = project.path.name
-    points, cells = 0, 0.0
-    if project.view is not None:
-        for room in scene.rooms:  # one estimate per room
-            n = estimate_room_points(room, project.view)
-            c = n * estimate_cells_per_point(room, project.view)
-            points, cells = points + n, cells + c
-            if points > max_points or cells > max_points * CELLS_PER_POINT:
-                raise InputError(
-                    f"{where}: rooms[{room.spec.index}] '{room.name}': about {n:,.0f} viewpoints and {c:,.0f} sampling cells, "
-                    f"over the budget of {max_points:,} viewpoints ({max_points * CELLS_PER_POINT:,.0f} cells) a run may have; "
-                    "check the floor's units and view.grid_spacing_m / view.angular_resolution_deg, or raise --max-points")
-    if project.sunlight is not None and project.sunlight.method == "sampled":  # exact: SPA knots every 10 min
-        s = project.sunlight
-        from en17037cli.criteria.sunlight.intervals import day_bounds
-
-        days = len(day_bounds(s.year, s.period_start, s.period_end, "UTC")[0])
-        samples = days * np.ceil(86400.0 / (s.timestep_min * 60.0))
-        if samples > MAX_SUN_SAMPLES:
-            raise InputError(f"{where}: sunlight: {days} days at {s.timestep_min:g} min make {samples:,.0f} sun samples a room, "
-                             f"over the {MAX_SUN_SAMPLES:,} a run may have; shorten the period or lengthen timestep_min")
-    return points, cells
 
 
 def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
@@ -241,12 +163,11 @@ def space_warnings(scene: Scene) -> list[str]:
     return out
 
 
-def preflight(ctx: Context, max_points: int = MAX_POINTS) -> Preflight:
+def preflight(ctx: Context) -> Preflight:
     """Everything the run can find before its criteria: see the module docstring."""
     project, scene = ctx.project, ctx.scene
     pf = Preflight(warnings=layer_warnings(scene) + space_warnings(scene) + landscape_warnings(project, scene) + scene.warnings)
     pf.dwellings = group_dwellings(project.dwellings, scene.rooms, project.path.name)
-    pf.points, pf.cells = check_budget(project, scene, max_points)
     for name, c in CRITERIA.items():
         if c.settings(project) is not None:
             pf.unassessable[name] = c.check_inputs(ctx)
@@ -265,22 +186,3 @@ def requirement_warnings(project: Project) -> list[str]:
                 "they are (set 'requirements')"]
     return []
 
-
-def estimate_seconds(project: Project, scene: Scene, pf: Preflight) -> dict[str, float]:
-    """A rough estimate of each criterion's time [s] from the preflight's counts (viewpoints and
-    sampling cells, points P, daylight grid points) and :data:`SECONDS_PER_CELL` and the other
-    rough costs: shown before a long run, never a budget."""
-    from en17037cli.criteria.view import no_landscape
-
-    out: dict[str, float] = {}
-    if project.view is not None:
-        traced = no_landscape(scene) is None
-        out["view"] = pf.cells * SECONDS_PER_CELL if traced else pf.points * SECONDS_PER_VIEWPOINT
-    if project.sunlight is not None:
-        out["sunlight"] = SECONDS_PER_POINT_P * sum(len(r.windows) for r in scene.rooms if r.problem is None)
-    if getattr(project, "daylight", None) is not None:
-        import shapely
-
-        area = sum(shapely.area(r.floor) for r in scene.rooms if r.problem is None)
-        out["daylight"] = SECONDS_PER_DAYLIGHT_POINT * area / project.daylight.grid_spacing_m ** 2
-    return out

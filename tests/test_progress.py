@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from click.testing import CliRunner
 
-from en17037cli import pipeline, preflight, terminal
+from en17037cli import budget, pipeline, terminal
 from en17037cli.cli import cli
 from en17037cli.project import load_project
 from en17037cli.samples import BoxRoom, box_room_project
@@ -19,9 +19,9 @@ def test_the_estimate_comes_before_the_work_from_the_preflights_counts(tmp_path,
     monkeypatch.setattr(pipeline, "ANNOUNCE_S", 0.0)
     result = pipeline.run(load_project(p, []), notify=said.append)
     (line,) = said
-    est = preflight.estimate_seconds(result.project, result.scene, preflight.Preflight(points=0, cells=0))
+    est = budget.estimate_seconds(result.project, result.scene, budget.Cost(points=0, cells=0))
     assert line.startswith("1 room, ") and "about" in line and "view ~" in line and "sunlight ~" in line
-    assert est["sunlight"] == preflight.SECONDS_PER_POINT_P * 1  # one window
+    assert est["sunlight"] == budget.SECONDS_PER_POINT_P * 1  # one window
     monkeypatch.setattr(pipeline, "ANNOUNCE_S", 1e9)  # a short run says nothing
     said.clear()
     pipeline.run(load_project(p, []), notify=said.append)

@@ -44,8 +44,8 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangulate_polygons
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.mesh import Mesh, Part
+from en17037cli.io.registry import ReadOptions, register
 
 #: EnergyPlus's default DXF colour scheme (DataSurfaceColors defaultcolorno) -> layer
 ENERGYPLUS_COLOURS = {143: "window", 43: "interior", 45: "interior", 8: "interior", 15: "interior", 13: "interior",

@@ -49,7 +49,6 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.ifc_glazing import (
     GLASS_TRANSPARENCY,
     GLAZED,
@@ -74,6 +73,7 @@ from en17037cli.io.ifc_windows import (
     window_plane,
 )
 from en17037cli.io.mesh import Mesh, Part
+from en17037cli.io.registry import ReadOptions, register
 
 #: Classes not tessellated at all.
 IGNORED = ("IfcSpace", "IfcOpeningElement", "IfcAnnotation", "IfcGrid", "IfcVirtualElement", "IfcFurnishingElement",

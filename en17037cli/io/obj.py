@@ -18,8 +18,8 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangulate_polygons
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.mesh import Mesh, Part
+from en17037cli.io.registry import ReadOptions, register
 
 
 @register(".obj")

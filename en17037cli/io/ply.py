@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.mesh import Mesh, Part
+from en17037cli.io.registry import ReadOptions, register
 
 #: PLY scalar types -> numpy type codes (without byte order).
 PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2", "ushort": "u2",

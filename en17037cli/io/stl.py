@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.mesh import Mesh, Part
+from en17037cli.io.registry import ReadOptions, register
 
 #: A binary STL record: normal, three vertices (float32), attribute byte count (uint16).
 RECORD = np.dtype([("normal", "<f4", (3,)), ("v", "<f4", (3, 3)), ("attr", "<u2")])

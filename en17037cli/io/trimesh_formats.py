@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.mesh import Mesh, Part
+from en17037cli.io.registry import ReadOptions, register
 
 
 @register(".glb", ".gltf", ".off")

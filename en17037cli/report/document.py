@@ -6,11 +6,11 @@ from ``timings_s``. Each criterion writes its own section of a room
 """
 from __future__ import annotations
 
-from en17037cli import __version__
 from en17037cli.criteria import CRITERIA, Unassessed
 from en17037cli.pipeline import RunResult
 from en17037cli.report.numbers import json_number, json_xyz
 from en17037cli.standard import PRACTICES
+from en17037cli.version import __version__
 
 SCHEMA_VERSION = "2.0"  # 2.0: decimal hours in fields named *_h (hours -> hours_h)
 

@@ -14,7 +14,7 @@ import io
 import json
 from dataclasses import dataclass, field
 
-from en17037cli import __version__
+from en17037cli.version import __version__
 
 #: Columns of ``summary.csv`` and the keys of each row of ``summary.json``, in order.
 COLUMNS = ("project", "variant", "room", "criterion", "level", "required", "status", "verdict", "dwelling",

@@ -5,13 +5,15 @@ from en17037cli.report.numbers import json_number
 from en17037cli.scene.site import compass_bearing, location_lines
 
 
-def validation_document(project_file, project, scene, pf, budget: int) -> dict:
+def validation_document(project_file, project, scene, pf, cost, budget: int) -> dict:
     """The scene as ``check`` will see it: faces per layer, what each file's reader read, the site
     and north taken and where from, the estimated cost, each room's floor, ceiling and windows
     (with why each bounds it and the compass bearing each faces, clockwise from true north) and the
     criteria that cannot assess it, windows in no room, dwellings, warnings and notes.
 
-    Heights are in the model's frame [m]; areas [m²].
+    ``pf`` is the run's :class:`~en17037cli.preflight.Preflight`, ``cost`` its
+    :class:`~en17037cli.budget.Cost` and ``budget`` the viewpoints it may have. Heights are in the
+    model's frame [m]; areas [m²].
     """
     z0 = float(scene.origin[2])
     bounding = {w.name for room in scene.rooms for w in room.windows}
@@ -35,7 +37,7 @@ def validation_document(project_file, project, scene, pf, budget: int) -> dict:
         "faces_per_layer": scene.layer_counts(),
         "read": [{"file": display, "summary": line} for display, line in getattr(scene, "read", [])],
         "site": location_lines(project, scene),
-        "estimated_cost": {"viewpoints": int(pf.points), "sampling_cells": json_number(pf.cells, 0), "budget_viewpoints": budget},
+        "estimated_cost": {"viewpoints": int(cost.points), "sampling_cells": json_number(cost.cells, 0), "budget_viewpoints": budget},
         "rooms": rooms,
         "spaces_left_out": [str(getattr(s, "name", s)) for s in scene.left_out],
         "windows_in_no_room": [w.name for w in scene.windows if w.name not in bounding],

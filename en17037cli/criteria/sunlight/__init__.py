@@ -9,16 +9,22 @@ from __future__ import annotations
 
 import zoneinfo
 
+import numpy as np
+
 from en17037cli.criteria.base import Context, Criterion
 from en17037cli.criteria.sunlight.assess import assess_room, check_sun_points
+from en17037cli.criteria.sunlight.intervals import day_bounds
 from en17037cli.criteria.sunlight.pictures import window_fisheyes
 from en17037cli.criteria.sunlight.point_p import point_p_height
 from en17037cli.criteria.sunlight.report import sunlight_section
 from en17037cli.criteria.sunlight.results import SunlightResult
 from en17037cli.criteria.sunlight.visibility import SunPath
-from en17037cli.errors import NotAssessable
+from en17037cli.errors import InputError, NotAssessable
 from en17037cli.project.settings import Location, Project, SunSettings
 from en17037cli.scene.model import room_window_group
+
+#: Sun samples of one room (days x samples a day) the sampled method may take.
+MAX_SUN_SAMPLES = 20_000_000
 
 
 class SunlightCriterion(Criterion):
@@ -41,6 +47,7 @@ class SunlightCriterion(Criterion):
         return None
 
     def check_inputs(self, ctx: Context) -> dict[str, str]:
+        check_sample_count(ctx.project)
         out = {}
         for room in ctx.scene.rooms:
             if room.problem is not None:
@@ -78,3 +85,16 @@ class SunlightCriterion(Criterion):
         settings, location = self._settings(ctx)
         return sunlight_section(ctx.scene, room, result, self.required(room), settings, zoneinfo.ZoneInfo(location.timezone),
                                 ctx.project.thresholds.sunlight_hours)
+
+
+def check_sample_count(project: Project) -> None:
+    """Raise :class:`InputError` when the sampled method's sun samples of one room (days x samples a
+    day) exceed :data:`MAX_SUN_SAMPLES`; the exact method (SPA knots every 10 min) has no such cost."""
+    s = project.sunlight
+    if s is None or s.method != "sampled":
+        return
+    days = len(day_bounds(s.year, s.period_start, s.period_end, "UTC")[0])
+    samples = days * np.ceil(86400.0 / (s.timestep_min * 60.0))
+    if samples > MAX_SUN_SAMPLES:
+        raise InputError(f"{project.path.name}: sunlight: {days} days at {s.timestep_min:g} min make {samples:,.0f} sun samples "
+                         f"a room, over the {MAX_SUN_SAMPLES:,} a run may have; shorten the period or lengthen timestep_min")

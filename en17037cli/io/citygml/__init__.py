@@ -32,13 +32,13 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.citygml.crs import CrsResolver
 from en17037cli.io.citygml.walk import Walk, local, walk_member
 from en17037cli.io.cityjson.relief import steep_sides
 from en17037cli.io.cityjson.semantics import choose_lod, counted, default_layer, lod_label, parse_lod_request
 from en17037cli.io.cityjson.triangulate import triangulate_surfaces
 from en17037cli.io.mesh import Mesh, Part, Site
+from en17037cli.io.registry import ReadOptions, register
 
 #: Member elements streamed one at a time (CityGML 1.0-3.0, GML feature collections)
 MEMBERS = ("cityObjectMember", "featureMember", "member")

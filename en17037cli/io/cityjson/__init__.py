@@ -49,7 +49,6 @@ import gc
 from pathlib import Path
 
 from en17037cli.errors import InputError
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.cityjson.builder import Builder
 from en17037cli.io.cityjson.documents import (
     GEOMETRY_TYPES,
@@ -77,6 +76,7 @@ from en17037cli.io.cityjson.semantics import (
     parse_lod_request,
 )
 from en17037cli.io.mesh import Mesh
+from en17037cli.io.registry import ReadOptions, register
 
 __all__ = [
     "BUILDING_CLASSES", "GEOMETRY_TYPES", "NON_SURFACE_TYPES", "SOLID_TYPES", "SURFACE_DEPTH", "VERSIONS",

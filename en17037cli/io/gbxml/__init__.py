@@ -43,12 +43,12 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangulate_polygons
-from en17037cli.io import ReadOptions, register
 from en17037cli.io.cityjson.semantics import counted
 from en17037cli.io.gbxml.parse import Document, SpaceRecord, read_document
 from en17037cli.io.gbxml.sides import UP, crossings, glazing_sides
 from en17037cli.io.mesh import Mesh, Part, Site, Space
 from en17037cli.io.openings import plane_basis, polygon_minus_openings
+from en17037cli.io.registry import ReadOptions, register
 
 GLAZED = ("FixedWindow", "OperableWindow", "FixedSkylight", "OperableSkylight", "SlidingDoor")
 FLOORS = ("InteriorFloor", "SlabOnGrade", "RaisedFloor", "UndergroundSlab", "ExposedFloor")
