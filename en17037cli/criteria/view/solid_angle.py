@@ -115,7 +115,7 @@ class Sampler:
         return c, dist
 
 
-def _clip_weights(rg: RoomGeometry, P: Patches, patch, T, weight, full):
+def _clip_weights(rg: RoomGeometry, P: Patches, patch, tans, weight, full):
     """Exact solid angle [sr] of each cell's part inside its window, and a sample point for cells
     whose corners may all lie outside the window (NaN elsewhere).
 
@@ -126,25 +126,24 @@ def _clip_weights(rg: RoomGeometry, P: Patches, patch, T, weight, full):
 
     Parameters
     ----------
-    T : (>= 4, m) float, cell bounds X0, X1, Y0, Y1 in gnomonic coordinates [-] (tangents of the
-        angles) in the first rows
+    tans : ``tans(sel)``, the bounds X0, X1, Y0, Y1 of cells ``sel`` (indices) in gnomonic
+        coordinates [-] (tangents of the angles)
     weight : (m,) float [sr], each cell's whole rectangle
 
     Returns
     -------
-    weight (m,) [sr], full (m,) bool, extra (m, 2) [rad]
+    weight (m,) [sr], full (m,) bool, extra (m, 2) [rad] or None where no cell was clipped
     """
+    if full.all():
+        return weight, full, None
     full = full.copy()
     extra = np.full((len(weight), 2), np.nan)
-    if full.all():
-        return weight, full, extra
-    X0, X1, Y0, Y1 = T[0], T[1], T[2], T[3]
     w = P.win[patch]
     for f in rg.frames:  # clipping, for windows that are not rectangles
         sel = np.flatnonzero((w == f.index) & ~f.is_rectangle & ~full)
         if len(sel) == 0:
             continue
-        wsum, is_full, ex = _clip_cells(f, P, patch[sel], X0[sel], X1[sel], Y0[sel], Y1[sel])
+        wsum, is_full, ex = _clip_cells(f, P, patch[sel], *tans(sel))
         weight[sel] = np.where(is_full, weight[sel], wsum)
         full[sel] = is_full
         extra[sel] = np.where(is_full[:, None], np.nan, ex)
@@ -188,19 +187,20 @@ def _clip_cells(f, P: Patches, ps, x0, x1, y0, y1):
 
 #: Sample classes that are layers, with their report keys.
 LAYER_CODES = (("sky", SKY), ("landscape", LANDSCAPE_HIT), ("ground", GROUND_HIT))
-#: The bit of each sample class in a cell's kinds, indexed by the class + 1 (-1, no sample: none).
-_KIND_BIT = np.array([0, 1 << BLOCKED, 1 << SKY, 1 << LANDSCAPE_HIT, 1 << GROUND_HIT], np.uint8)
 
 
 @dataclass
 class _Cells:
     """Sampling cells, one column per cell: bounds and sample positions, their samples' classes, weights.
 
-    ``G`` rows: alpha0, alpha1, beta0, beta1 of the cell [rad]. ``T`` rows: their tangents X0, X1,
-    Y0, Y1 (the cell in gnomonic coordinates [-]), then the gnomonic coordinates of the lines its
-    samples lie on, moved inwards on a window's outline. ``cls`` rows: corners (a0 b0), (a1 b0),
-    (a0 b1), (a1 b1) and one extra sample inside the window for cells with no corner in it (-1:
-    none); ``dist`` likewise. ``extra``: (m, 2) the extra sample's angles [rad].
+    Bounds (:meth:`bounds`): ``G`` rows alpha0, alpha1, beta0, beta1 of the cell [rad]; ``T`` rows
+    their tangents X0, X1, Y0, Y1 (the cell in gnomonic coordinates [-]), then the gnomonic
+    coordinates of the lines its samples lie on, moved inwards on a window's outline. They are
+    column ``src`` of ``GG`` and ``TT``, or for the children of a split (``q``: 0-3) rows of their
+    parent's (:data:`_CHILDREN`), made only for the cells that need them. ``cls`` rows: corners
+    (a0 b0), (a1 b0), (a0 b1), (a1 b1) and one extra sample inside the window for cells with no
+    corner in it (-1: none); ``dist`` likewise. ``extra``: (m, 2) the extra sample's angles [rad]
+    (NaN: none; None: no cell has one).
     ``piece_cell`` and ``piece_xy``: the pieces of frame-edge images inside each cell (cell index;
     endpoints X0, Y0, X1, Y1 in gnomonic coordinates [-]); a cell with a piece counts as mixed.
     ``probe_cell``, ``probe_cls``, ``probe_dist``: samples just beside those pieces, as many per
@@ -208,13 +208,15 @@ class _Cells:
     """
 
     patch: np.ndarray
-    G: np.ndarray
-    T: np.ndarray
+    GG: np.ndarray
+    TT: np.ndarray
+    src: np.ndarray
+    q: np.ndarray | None
     cls: np.ndarray
     dist: np.ndarray | None
     w: np.ndarray
     full: np.ndarray
-    extra: np.ndarray
+    extra: np.ndarray | None
     piece_cell: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     piece_xy: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     probe_cell: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
@@ -227,17 +229,33 @@ class _Cells:
         new[sel] = np.arange(len(sel))
         pc, qc = new[self.piece_cell], new[self.probe_cell]
         keep, kq = pc >= 0, qc >= 0
-        return _Cells(self.patch[sel], self.G[:, sel], self.T[:, sel], self.cls[:, sel],
-                      None if self.dist is None else self.dist[:, sel], self.w[sel], self.full[sel], self.extra[sel],
-                      pc[keep], self.piece_xy[keep], qc[kq], self.probe_cls[kq],
-                      None if self.probe_dist is None else self.probe_dist[kq])
+        return _Cells(self.patch[sel], self.GG, self.TT, self.src[sel], None if self.q is None else self.q[sel],
+                      self.cls[:, sel], None if self.dist is None else self.dist[:, sel], self.w[sel], self.full[sel],
+                      None if self.extra is None else self.extra[sel], pc[keep], self.piece_xy[keep], qc[kq],
+                      self.probe_cls[kq], None if self.probe_dist is None else self.probe_dist[kq])
+
+    def bounds(self, sel) -> tuple[np.ndarray, np.ndarray]:
+        """``G`` (4, k) and ``T`` (8, k) of cells ``sel`` (indices)."""
+        s = self.src[sel]
+        if self.q is None:
+            return self.GG[:, s], self.TT[:, s]
+        q = self.q[sel]
+        return self.GG[_KID_G[q].T, s], self.TT[_KID_T[q].T, s]
+
+    def tans(self, sel) -> tuple[np.ndarray, ...]:
+        """X0, X1, Y0, Y1 of cells ``sel`` (indices) [-]."""
+        return tuple(self.bounds(sel)[1][:4])
 
     def crossed(self) -> np.ndarray:
         """(m,) bool, the cells crossed by the image of a frame edge."""
-        return np.bincount(self.piece_cell, minlength=len(self.w)) > 0
+        out = np.zeros(len(self.w), dtype=bool)
+        out[self.piece_cell] = True
+        return out
 
     def sample_extra(self, sample) -> _Cells:
         """Trace a sample inside the window's part of every cell none of whose corners lies in the window."""
+        if self.extra is None:
+            return self
         need = np.flatnonzero(np.isfinite(self.extra[:, 0]))
         if len(need):
             need = need[np.all(self.cls[:4, need] < 0, axis=0)]
@@ -271,7 +289,7 @@ class _Cells:
         d = xy[:, 2:] - xy[:, :2]
         length = np.hypot(d[:, 0], d[:, 1])
         mid = 0.5 * (xy[:, :2] + xy[:, 2:])
-        G = self.G[:, pc]
+        G, T = self.bounds(pc)
         am, bm = np.arctan(mid[:, 0]), np.arctan(mid[:, 1])
         ia = np.clip(((am - G[0]) / (G[1] - G[0]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
         ib = np.clip(((bm - G[2]) / (G[3] - G[2]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
@@ -279,7 +297,7 @@ class _Cells:
         order = np.lexsort((-length, part))
         first = order[np.r_[True, part[order][1:] != part[order][:-1]]]
         c = pc[first]
-        X0, X1, Y0, Y1 = (self.T[i, c] for i in range(4))
+        X0, X1, Y0, Y1 = T[0, first], T[1, first], T[2, first], T[3, first]
         step = PROBE_INSET * np.minimum(X1 - X0, Y1 - Y0) / length[first]
         normal = np.column_stack([-d[first, 1], d[first, 0]]) * step[:, None]
         px = np.clip(np.concatenate([mid[first, 0] + normal[:, 0], mid[first, 0] - normal[:, 0]]), np.tile(X0, 2), np.tile(X1, 2))
@@ -312,11 +330,16 @@ class _Cells:
 
     def kinds(self) -> np.ndarray:
         """(m,) uint8, per cell: bit c set when a sample (corners, extra, probes) has class c."""
-        kinds = np.bitwise_or.reduce(_KIND_BIT[self.cls + 1], axis=0)
+        kinds = np.bitwise_or.reduce(_kind_bits(self.cls), axis=0)
         if len(self.probe_cell):
             ok = self.probe_cls >= 0
-            np.bitwise_or.at(kinds, self.probe_cell[ok], _KIND_BIT[self.probe_cls[ok] + 1])
+            np.bitwise_or.at(kinds, self.probe_cell[ok], _kind_bits(self.probe_cls[ok]))
         return kinds
+
+
+def _kind_bits(cls: np.ndarray) -> np.ndarray:
+    """1 << c (uint8) for each sample class c, 0 for -1 (no sample): (1 << (c + 1)) >> 1."""
+    return np.right_shift(np.left_shift(np.uint8(1), (cls + 1).view(np.uint8)), 1)
 
 
 #: A cell is probed beside at most one piece of frame-edge image in each of this many parts per axis.
@@ -363,6 +386,7 @@ def _base_cells(sample, P: Patches) -> _Cells:
         dist[4] = np.inf
     G = np.stack([la[li], la[li + 1], lb[lj], lb[lj + 1]])
     T = np.stack([tla[li], tla[li + 1], tlb[lj], tlb[lj + 1], tca[a_lo], tca[a_hi], tcb[b_lo], tcb[b_hi]])
+    idx = np.arange(n)
     # weights: the corner term at every grid vertex of a patch, combined per cell
     nv = nva * nvb
     vbase = np.concatenate([[0], np.cumsum(nv)[:-1]])
@@ -372,9 +396,9 @@ def _base_cells(sample, P: Patches) -> _Cells:
     v00 = vbase[cp] + i * nvb[cp] + j
     v10 = v00 + nvb[cp]
     weight = F[v10 + 1] - F[v00 + 1] - F[v10] + F[v00]  # offset_rectangle_solid_angle(X0, X1, Y0, Y1)
-    weight, full, extra = _clip_weights(sample.rg, P, cp, T, weight, sample.rect[P.win[cp]])
+    weight, full, extra = _clip_weights(sample.rg, P, cp, lambda sel: tuple(T[:4, sel]), weight, sample.rect[P.win[cp]])
     pc, pxy = edge_pieces(P, la_ptr, la, lb_ptr, lb, cbase, nlb)
-    cells = _Cells(cp, G, T, cls, dist, weight, full, extra, pc, pxy)
+    cells = _Cells(cp, G, T, idx, None, cls, dist, weight, full, extra, pc, pxy)
     if not full.all():
         cells = cells.take(weight > 0)
     return cells.sample_extra(sample).sample_probes(sample)
@@ -504,6 +528,10 @@ _CHILDREN = (
     ((0, 8, 9, 3, 4, 8, 9, 7), (6, 8, 2, 5), (0, 1)),
     ((8, 1, 9, 3, 8, 5, 9, 7), (8, 7, 5, 3), (1, 1)),
 )
+#: Rows of the parent's [X0, X1, Y0, Y1, SX0, SX1, SY0, SY1, Xm, Ym] and [A0, A1, B0, B1, Am, Bm]
+#: that are each child's ``T`` and ``G``.
+_KID_T = np.array([rows for rows, _, _ in _CHILDREN])
+_KID_G = np.where(_KID_T[:, :4] >= 8, _KID_T[:, :4] - 4, _KID_T[:, :4])
 
 
 def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
@@ -514,7 +542,7 @@ def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
     """
     m = len(rest)
     patch = cells.patch[rest]
-    G, T = cells.G[:, rest], cells.T[:, rest]
+    G, T = cells.bounds(rest)
     Am, Bm = 0.5 * (G[0] + G[1]), 0.5 * (G[2] + G[3])
     Xm, Ym = np.tan(Am), np.tan(Bm)
     # new samples: bottom, top, left, right edge midpoints and the centre
@@ -523,8 +551,6 @@ def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
     dist = None if ndist is None else np.concatenate([cells.dist[:4, rest], ndist.reshape(5, m)])
     GG = np.concatenate([G, Am[None], Bm[None]])
     TT = np.concatenate([T, Xm[None], Ym[None]])
-    kid_G = np.concatenate([GG[[r - 4 if r >= 8 else r for r in rows[:4]]] for rows, _, _ in _CHILDREN], axis=1)
-    kid_T = np.concatenate([TT[list(rows)] for rows, _, _ in _CHILDREN], axis=1)
     kid_cls = np.full((5, 4 * m), -1, np.int8)
     kid_dist = None if dist is None else np.full((5, 4 * m), np.inf)
     xs, ys = (T[0], Xm, T[1]), (T[2], Ym, T[3])
@@ -536,13 +562,15 @@ def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
             kid_dist[:4, q * m:(q + 1) * m] = dist[list(cor)]
         w[q * m:(q + 1) * m] = F[i + 1][j + 1] - F[i][j + 1] - F[i + 1][j] + F[i][j]
     kid_patch = np.tile(patch, 4)
-    w, full, extra = _clip_weights(sample.rg, sample.P, kid_patch, kid_T, w, np.tile(cells.full[rest], 4))
+    src, quad = np.tile(np.arange(m), 4), np.repeat(np.arange(4, dtype=np.int8), m)
+    tans = lambda sel: tuple(TT[_KID_T[quad[sel], :4].T, src[sel]])  # noqa: E731 - the children's bounds, where clipped
+    w, full, extra = _clip_weights(sample.rg, sample.P, kid_patch, tans, w, np.tile(cells.full[rest], 4))
     at = np.full(len(cells.w), -1, np.int64)
     at[rest] = np.arange(m)
     pc = at[cells.piece_cell]
     keep = pc >= 0
     pc, pxy = _split_pieces(pc[keep], cells.piece_xy[keep], Xm, Ym)
-    kids = _Cells(kid_patch, kid_G, kid_T, kid_cls, kid_dist, w, full, extra, pc, pxy)
+    kids = _Cells(kid_patch, GG, TT, src, quad, kid_cls, kid_dist, w, full, extra, pc, pxy)
     if not full.all():
         kids = kids.take(w > 0)
     return kids.sample_extra(sample).sample_probes(sample)
@@ -590,13 +618,14 @@ def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, sett
             share[key] = s
         # Error control: a point stops refining once every layer's estimated error (half the
         # solid angle of its mixed cells) is within max(rel * layer solid angle, abs).
+        # (At the last level every cell is final.)
+        last = level == settings.refine_levels
         done = np.ones(p, dtype=bool)
         pm, half_m, kinds_m = pi[mi], 0.5 * w[mi], kinds[mi]  # the mixed cells (the others add 0 to an error)
-        for key, code in LAYER_CODES:
+        for key, code in ([] if last else LAYER_CODES):
             est = out["err_" + key] + np.bincount(pm, half_m * ((kinds_m >> code) & 1), p)
             value = out[key] + np.bincount(pi, w * share[key], p)
             done &= est <= np.maximum(rel * value, abs_)
-        last = level == settings.refine_levels
         final = slice(None) if last else np.flatnonzero(~mixed | done[pi])
         fm = slice(None) if last else np.flatnonzero(done[pm])  # the final ones among the mixed
         fp, fw = pi[final], w[final]
