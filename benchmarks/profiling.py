@@ -7,8 +7,9 @@ the shares hold on a machine shared with other work; with one ray-tracing thread
 the rays) is seen by the profiler, which follows the main thread only. Pictures are drawn in this
 process too (no drawing workers). Imports are part of the first check's profile.
 
-Usage: ``python benchmarks/profiling.py [--only seed|paper ...] [--top N] [--sort tottime|cumulative]
-[--save DIR]`` from the repository (it needs ``sample_projects/``).
+Usage: ``python benchmarks/profiling.py [--only seed|paper ...] [--project FILE ...] [--top N]
+[--sort tottime|cumulative] [--save DIR]`` from the repository (it needs ``sample_projects/``);
+``--project`` profiles other project files instead (a real export's).
 """
 from __future__ import annotations
 
@@ -77,16 +78,17 @@ def _print(prof: cProfile.Profile, title: str, cpu: float, wall: float, top: int
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python benchmarks/profiling.py", description=__doc__.splitlines()[0])
     ap.add_argument("--only", nargs="+", choices=("seed", "paper"), default=["seed", "paper"])
+    ap.add_argument("--project", nargs="+", type=Path, default=[], help="profile these project files instead")
     ap.add_argument("--top", type=int, default=25, help="functions listed per table (default 25)")
     ap.add_argument("--sort", nargs="+", choices=("tottime", "cumulative"), default=["tottime", "cumulative"])
     ap.add_argument("--save", type=Path, default=None, help="also write each profile (.prof) into this folder")
     args = ap.parse_args(argv)
     os.environ["EN17037_THREADS"] = "1"
     with tempfile.TemporaryDirectory() as tmp:
-        jobs = []
-        if "seed" in args.only:
+        jobs = [(p.stem, str(p), p.resolve()) for p in args.project]
+        if "seed" in args.only and not args.project:
             jobs.append(("seed", "seed office, view and sunlight (no daylight section)", seed_without_daylight(Path(tmp))))
-        if "paper" in args.only:
+        if "paper" in args.only and not args.project:
             jobs.append(("paper", "paper's grid (project-paper-grid.yaml, 2,800 viewpoints)", PAPER))
         for key, title, project in jobs:
             prof, cpu, wall = profile_check(project, Path(tmp) / f"out-{key}")
