@@ -26,6 +26,9 @@ Speed is measured here, never in a timed test. Sections:
 9. **Dask**: ``en17037 batch --scheduler local`` on the block's first 108 rooms (defaults) with 1
    and 2 local workers (each with cores // workers ray-tracing threads): rooms per second, and a
    check that both give the same summary.
+0. **Goals** (issue 38, :mod:`goals`): the seed office's view and sunlight, the paper's grid, a
+   block's time per room added and real exports' time per assessed room, whole process with
+   pictures, as wall and CPU time against their limits.
 10. **Targets** (issue 18): every target with the measured figure, the target, met or not, and
    where it applies the time raw Embree needs for the same rays and the ratio to it: the seed
    office's whole ``check`` (median of 3), the paper's 2 x 1400-point grid, the 216-room block per
@@ -514,7 +517,7 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "citygml", "building", "dask", "daylight", "targets")
+SECTIONS = ("goals", "throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "citygml", "building", "dask", "daylight", "targets")
 
 
 def main(argv=None) -> int:
@@ -527,6 +530,11 @@ def main(argv=None) -> int:
 
     result: dict = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "numpy": np.__version__,
                                 "embreex": getattr(embreex, "__version__", "?"), "platform": platform.platform()}}
+    if "goals" in args.only:
+        from goals import goals, print_goals
+
+        result["goals"] = goals(args.quick)
+        print_goals(result["goals"])
     if "throughput" in args.only:
         result["throughput"] = throughput()
         tp = result["throughput"]

@@ -534,6 +534,32 @@ _KID_T = np.array([rows for rows, _, _ in _CHILDREN])
 _KID_G = np.where(_KID_T[:, :4] >= 8, _KID_T[:, :4] - 4, _KID_T[:, :4])
 
 
+#: Children of one cell that share an edge: (child a, its new sample on the edge, child b, its
+#: sample there), the new samples numbered 0-4: bottom, top, left and right edge midpoints, centre.
+_SIBLING_EDGES = ((0, 1, 2, 0), (0, 3, 1, 2), (1, 1, 3, 0), (2, 3, 3, 2))
+
+
+def _sibling_twins(cells: _Cells, rest: np.ndarray, X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(twin, source): the new samples of cells ``rest`` that are the same ray as another's, two
+    children of one cell split together (the middle of the edge they share), as indices into the
+    5 m new samples (block k: sample k of every cell), and the sample each repeats."""
+    none = np.zeros(0, np.int64)
+    if cells.q is None:
+        return none, none
+    m = len(rest)
+    slot = np.full((cells.GG.shape[1], 4), -1, np.int64)
+    slot[cells.src[rest], cells.q[rest]] = np.arange(m)
+    twin, source = [none], [none]
+    for qa, sa, qb, sb in _SIBLING_EDGES:
+        a, b = slot[:, qa], slot[:, qb]
+        both = (a >= 0) & (b >= 0)
+        twin.append(sb * m + b[both])
+        source.append(sa * m + a[both])
+    t, s = np.concatenate(twin), np.concatenate(source)
+    same = (X[t] == X[s]) & (Y[t] == Y[s])  # by construction; the rays are then the same
+    return t[same], s[same]
+
+
 def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
     """Split cells ``rest`` (indices) in four at their angular midpoints; five new samples per cell.
 
@@ -545,8 +571,22 @@ def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
     G, T = cells.bounds(rest)
     Am, Bm = 0.5 * (G[0] + G[1]), 0.5 * (G[2] + G[3])
     Xm, Ym = np.tan(Am), np.tan(Bm)
-    # new samples: bottom, top, left, right edge midpoints and the centre
-    ncls, ndist = sample(np.tile(patch, 5), np.concatenate([Xm, Xm, T[4], T[5], Xm]), np.concatenate([T[6], T[7], Ym, Ym, Ym]))
+    # new samples: bottom, top, left, right edge midpoints and the centre; the middle of an edge two
+    # children of one cell share, both split, is traced once
+    X5, Y5 = np.concatenate([Xm, Xm, T[4], T[5], Xm]), np.concatenate([T[6], T[7], Ym, Ym, Ym])
+    twin, source = _sibling_twins(cells, rest, X5, Y5)
+    kept = np.ones(5 * m, dtype=bool)
+    kept[twin] = False
+    kept = np.flatnonzero(kept)
+    kcls, kdist = sample(np.tile(patch, 5)[kept], X5[kept], Y5[kept])
+    ncls = np.empty(5 * m, np.int8)
+    ncls[kept] = kcls
+    ncls[twin] = ncls[source]
+    ndist = None
+    if kdist is not None:
+        ndist = np.empty(5 * m)
+        ndist[kept] = kdist
+        ndist[twin] = ndist[source]
     cls = np.concatenate([cells.cls[:4, rest], ncls.reshape(5, m)])
     dist = None if ndist is None else np.concatenate([cells.dist[:4, rest], ndist.reshape(5, m)])
     GG = np.concatenate([G, Am[None], Bm[None]])
