@@ -222,17 +222,21 @@ class _Cells:
     probe_cell: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     probe_cls: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
     probe_dist: np.ndarray | None = None
+    #: (4, m) int: the cell of the same size across its bottom, top, left and right side (-1: none
+    #: among these cells), for the cells that may be split
+    nb: np.ndarray | None = None
 
     def take(self, sel) -> _Cells:
         sel = np.flatnonzero(sel) if sel.dtype == bool else sel
-        new = np.full(len(self.w), -1, np.int64)
+        new = np.full(len(self.w) + 1, -1, np.int64)  # the last: where -1 (no cell) goes
         new[sel] = np.arange(len(sel))
         pc, qc = new[self.piece_cell], new[self.probe_cell]
         keep, kq = pc >= 0, qc >= 0
         return _Cells(self.patch[sel], self.GG, self.TT, self.src[sel], None if self.q is None else self.q[sel],
                       self.cls[:, sel], None if self.dist is None else self.dist[:, sel], self.w[sel], self.full[sel],
                       None if self.extra is None else self.extra[sel], pc[keep], self.piece_xy[keep], qc[kq],
-                      self.probe_cls[kq], None if self.probe_dist is None else self.probe_dist[kq])
+                      self.probe_cls[kq], None if self.probe_dist is None else self.probe_dist[kq],
+                      None if self.nb is None else new[self.nb[:, sel]])
 
     def bounds(self, sel) -> tuple[np.ndarray, np.ndarray]:
         """``G`` (4, k) and ``T`` (8, k) of cells ``sel`` (indices)."""
@@ -398,7 +402,10 @@ def _base_cells(sample, P: Patches) -> _Cells:
     weight = F[v10 + 1] - F[v00 + 1] - F[v10] + F[v00]  # offset_rectangle_solid_angle(X0, X1, Y0, Y1)
     weight, full, extra = _clip_weights(sample.rg, P, cp, lambda sel: tuple(T[:4, sel]), weight, sample.rect[P.win[cp]])
     pc, pxy = edge_pieces(P, la_ptr, la, lb_ptr, lb, cbase, nlb)
-    cells = _Cells(cp, G, T, idx, None, cls, dist, weight, full, extra, pc, pxy)
+    nbc, nac = nlb[cp], nla[cp]
+    nb = np.stack([np.where(j > 0, idx - 1, -1), np.where(j < nbc - 1, idx + 1, -1),
+                   np.where(i > 0, idx - nbc, -1), np.where(i < nac - 1, idx + nbc, -1)])
+    cells = _Cells(cp, G, T, idx, None, cls, dist, weight, full, extra, pc, pxy, nb=nb)
     if not full.all():
         cells = cells.take(weight > 0)
     return cells.sample_extra(sample).sample_probes(sample)
@@ -534,34 +541,37 @@ _KID_T = np.array([rows for rows, _, _ in _CHILDREN])
 _KID_G = np.where(_KID_T[:, :4] >= 8, _KID_T[:, :4] - 4, _KID_T[:, :4])
 
 
-#: Children of one cell that share an edge: (child a, its new sample on the edge, child b, its
-#: sample there), the new samples numbered 0-4: bottom, top, left and right edge midpoints, centre.
-_SIBLING_EDGES = ((0, 1, 2, 0), (0, 3, 1, 2), (1, 1, 3, 0), (2, 3, 3, 2))
+#: The neighbours of each child (0-3: lower left, lower right, upper left, upper right) across its
+#: bottom, top, left and right side: (0, k) its sibling k, (1, k) child k of its parent's neighbour there.
+_KID_NB = (((1, 2), (0, 2), (1, 1), (0, 1)), ((1, 3), (0, 3), (0, 0), (1, 0)),
+           ((0, 0), (1, 0), (1, 3), (0, 3)), ((0, 1), (1, 1), (0, 2), (1, 2)))
 
 
-def _sibling_twins(cells: _Cells, rest: np.ndarray, X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(twin, source): the new samples of cells ``rest`` that are the same ray as another's, two
-    children of one cell split together (the middle of the edge they share), as indices into the
-    5 m new samples (block k: sample k of every cell), and the sample each repeats."""
+def _twins(cells: _Cells, at: np.ndarray, rest: np.ndarray, X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(twin, source): the new samples of cells ``rest`` that are the same ray as a neighbour's, both
+    split now (the middle of the side they share: a cell's bottom and left samples are its
+    neighbours' top and right ones), as indices into the 5 m new samples (block k: sample k of
+    every cell), and the sample each repeats. ``at``: each cell's place in ``rest`` (-1: not split)."""
     none = np.zeros(0, np.int64)
-    if cells.q is None:
+    if cells.nb is None:
         return none, none
     m = len(rest)
-    slot = np.full((cells.GG.shape[1], 4), -1, np.int64)
-    slot[cells.src[rest], cells.q[rest]] = np.arange(m)
+    r = np.arange(m)
     twin, source = [none], [none]
-    for qa, sa, qb, sb in _SIBLING_EDGES:
-        a, b = slot[:, qa], slot[:, qb]
-        both = (a >= 0) & (b >= 0)
-        twin.append(sb * m + b[both])
-        source.append(sa * m + a[both])
+    for side, facing in ((0, 1), (2, 3)):
+        n = at[cells.nb[side, rest]]
+        ok = n >= 0
+        twin.append(side * m + r[ok])
+        source.append(facing * m + n[ok])
     t, s = np.concatenate(twin), np.concatenate(source)
-    same = (X[t] == X[s]) & (Y[t] == Y[s])  # by construction; the rays are then the same
+    same = (X[t] == X[s]) & (Y[t] == Y[s])  # a side sampled on both sides of a frame line: two rays
     return t[same], s[same]
 
 
-def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
-    """Split cells ``rest`` (indices) in four at their angular midpoints; five new samples per cell.
+def _split(sample, cells: _Cells, rest: np.ndarray, neighbours: bool = True) -> _Cells:
+    """Split cells ``rest`` (indices) in four at their angular midpoints; five new samples per cell
+    (a side's middle once where the cells on both sides are split); ``neighbours``: find the
+    children's (:attr:`_Cells.nb`), for another split.
 
     The children's weights come from the corner term at the 3 x 3 vertices of each cell (the
     numbers of :func:`~en17037cli.geometry.offset_rectangle_solid_angle`, each vertex once).
@@ -574,7 +584,9 @@ def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
     # new samples: bottom, top, left, right edge midpoints and the centre; the middle of an edge two
     # children of one cell share, both split, is traced once
     X5, Y5 = np.concatenate([Xm, Xm, T[4], T[5], Xm]), np.concatenate([T[6], T[7], Ym, Ym, Ym])
-    twin, source = _sibling_twins(cells, rest, X5, Y5)
+    at = np.full(len(cells.w) + 1, -1, np.int64)  # the last: where -1 (no cell) goes
+    at[rest] = np.arange(m)
+    twin, source = _twins(cells, at, rest, X5, Y5)
     kept = np.ones(5 * m, dtype=bool)
     kept[twin] = False
     kept = np.flatnonzero(kept)
@@ -610,10 +622,25 @@ def _split(sample, cells: _Cells, rest: np.ndarray) -> _Cells:
     pc = at[cells.piece_cell]
     keep = pc >= 0
     pc, pxy = _split_pieces(pc[keep], cells.piece_xy[keep], Xm, Ym)
-    kids = _Cells(kid_patch, GG, TT, src, quad, kid_cls, kid_dist, w, full, extra, pc, pxy)
+    kids = _Cells(kid_patch, GG, TT, src, quad, kid_cls, kid_dist, w, full, extra, pc, pxy,
+                  nb=_kid_neighbours(cells, at, rest) if neighbours and cells.nb is not None else None)
     if not full.all():
         kids = kids.take(w > 0)
     return kids.sample_extra(sample).sample_probes(sample)
+
+
+def _kid_neighbours(cells: _Cells, at: np.ndarray, rest: np.ndarray) -> np.ndarray:
+    """(4, 4 m) int: the neighbours of the children of cells ``rest`` (:data:`_KID_NB`)."""
+    m = len(rest)
+    r = np.arange(m)
+    outer = at[cells.nb[:, rest]]  # each parent's neighbours among the cells split (-1: none)
+    nb = np.empty((4, 4 * m), np.int64)
+    for q, sides in enumerate(_KID_NB):
+        for side, (across, k) in enumerate(sides):
+            nb[side, q * m:(q + 1) * m] = k * m + (outer[side] if across else r)
+            if across:
+                nb[side, q * m:(q + 1) * m][outer[side] < 0] = -1
+    return nb
 
 
 def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings,
@@ -696,7 +723,7 @@ def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, sett
             rest[final] = False
             if not rest.any():
                 break
-            cells = _split(sample, cells, np.flatnonzero(rest))
+            cells = _split(sample, cells, np.flatnonzero(rest), neighbours=level + 1 < settings.refine_levels)
     view_rays.engine.count_rays(sample.rays)
     dist = gap = None
     if with_dist:
