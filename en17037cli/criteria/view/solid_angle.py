@@ -243,8 +243,8 @@ class _Cells:
         s = self.src[sel]
         if self.q is None:
             return self.GG[:, s], self.TT[:, s]
-        q = self.q[sel]
-        return self.GG[_KID_G[q].T, s], self.TT[_KID_T[q].T, s]
+        q, mp = self.q[sel], self.GG.shape[1]
+        return self.GG.ravel()[_KID_G[q].T * mp + s], self.TT.ravel()[_KID_T[q].T * mp + s]
 
     def tans(self, sel) -> tuple[np.ndarray, ...]:
         """X0, X1, Y0, Y1 of cells ``sel`` (indices) [-]."""
@@ -313,7 +313,7 @@ class _Cells:
 
     def valid_counts(self) -> np.ndarray:
         """(m,) int, per cell: its valid samples (corners, extra, probes)."""
-        return (self.cls >= 0).sum(axis=0) + np.bincount(self.probe_cell, self.probe_cls >= 0, len(self.w)).astype(np.int64)
+        return _row_sum(self.cls >= 0) + np.bincount(self.probe_cell, self.probe_cls >= 0, len(self.w)).astype(np.int64)
 
     def counter(self, rows: np.ndarray):
         """``count(code)``: (k,) int, per cell of ``rows`` (indices), its samples (corners, extra,
@@ -327,8 +327,8 @@ class _Cells:
 
         def count(code=None) -> np.ndarray:
             if code is None:
-                return (cls >= 0).sum(axis=0) + np.bincount(pq, pcls >= 0, len(rows)).astype(np.int64)
-            return (cls == code).sum(axis=0) + np.bincount(pq, pcls == code, len(rows)).astype(np.int64)
+                return _row_sum(cls >= 0) + np.bincount(pq, pcls >= 0, len(rows)).astype(np.int64)
+            return _row_sum(cls == code) + np.bincount(pq, pcls == code, len(rows)).astype(np.int64)
 
         return count
 
@@ -339,6 +339,12 @@ class _Cells:
             ok = self.probe_cls >= 0
             np.bitwise_or.at(kinds, self.probe_cell[ok], _kind_bits(self.probe_cls[ok]))
         return kinds
+
+
+def _row_sum(flags: np.ndarray) -> np.ndarray:
+    """(m,) int64: the true flags of each column of (5, m) bool ``flags`` (``flags.sum(axis=0)``, row by row)."""
+    f = flags.view(np.uint8)
+    return (f[0] + f[1] + f[2] + f[3] + f[4]).astype(np.int64)
 
 
 def _kind_bits(cls: np.ndarray) -> np.ndarray:
