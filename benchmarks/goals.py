@@ -152,7 +152,8 @@ def goals(quick: bool = False) -> list[dict]:
             k = max(r["assessed"], 1)
             st = r["stages_s"]
             rows.append(_row(f"{label}, per assessed room", r["wall_s"] / k, r["cpu_s"] / k, 3.0, "s",
-                             f"{r['assessed']} of {r['rooms']} rooms; whole {r['wall_s']:.1f} s: load {st.get('load', 0):.1f}, "
+                             f"{r['assessed']} of {r['rooms']} rooms, {r['rays']:,} rays; whole {r['wall_s']:.1f} s: "
+                             f"load {st.get('load', 0):.1f}, "
                              f"view {st.get('view', 0):.1f}, sunlight {st.get('sunlight', 0):.1f}, "
                              f"figures {st.get('figures', 0):.1f}"))
     return rows

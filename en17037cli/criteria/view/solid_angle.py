@@ -10,6 +10,9 @@ thinned), are mixed; mixed cells are split in four, up to ``refine_levels`` time
 layer's estimated error is within max(``solid_angle_rel_tolerance`` x its solid angle,
 ``solid_angle_abs_tolerance_sr``). Error estimate: half the solid angle of the cells still mixed.
 Cells crossed by a frame edge's image are also sampled just beside it (:meth:`_Cells.sample_probes`).
+A split traces the middle of a side two split cells share once (:func:`_twins`). The caller may
+run several calls at once on the engine's threads (``parallel=False``): a point's values depend on
+no other point.
 """
 from __future__ import annotations
 
