@@ -68,14 +68,14 @@ def test_no_ray_of_a_split_is_traced_twice(mullion_room, monkeypatch):
     and the answers are those of tracing it twice (``_twins`` switched off)."""
     b = mullion_room
     repeats = []
-    original = sa.Sampler.__call__
+    original = sa.Sampler.trace
 
     def spy(self, patch, X, Y):
         key = np.unique(np.column_stack([patch, X, Y]), axis=0)
         repeats.append(len(patch) - len(key))
         return original(self, patch, X, Y)
 
-    monkeypatch.setattr(sa.Sampler, "__call__", spy)
+    monkeypatch.setattr(sa.Sampler, "trace", spy)
     once, rays_once = _solid(b, b.engine, 10**9, monkeypatch)
     assert max(repeats) == 0
     monkeypatch.setattr(sa, "_twins", lambda *a: (np.zeros(0, np.int64), np.zeros(0, np.int64)))
@@ -175,3 +175,26 @@ def test_bridges_are_the_full_overlays():
         assert all(np.array_equal(np.asarray(p.coords), np.asarray(q.coords)) for p, q in zip(fast, full))
         found += len(full)
     assert found > 0  # the wall under the window's sill closes the plan
+
+
+def test_sampler_called_with_angles_counts_its_rays(mullion_room):
+    """``Sampler(...)(patch, alpha, beta)`` (the angles, as before issue 38) answers as ``trace`` at
+    their tangents and counts its rays in the engine; ``trace`` leaves the counting to its caller."""
+    from en17037cli.criteria.view.gnomonic import patches
+    from en17037cli.criteria.view.rays import ViewRays
+
+    b = mullion_room
+    rg = room_geometry(b.scene, b.room, b.view_cfg.frame_depth_m)
+    pts = b.scene.to_local(POINTS[:6])
+    P = patches(rg, pts, np.radians(1.0))
+    s = sa.Sampler(ViewRays(b.engine, b.scene), rg, pts, P, True)
+    rng = np.random.default_rng(3)
+    patch = rng.integers(0, len(P), 500)
+    A, B = rng.uniform(P.a0[patch], P.a1[patch]), rng.uniform(P.b0[patch], P.b1[patch])
+    before = b.engine.rays_traced
+    c1, d1 = s(patch, A, B)
+    assert b.engine.rays_traced - before == 500 * s.per_ray and s.rays == 0
+    c2, d2 = s.trace(patch, np.tan(A), np.tan(B))
+    assert b.engine.rays_traced - before == 500 * s.per_ray and s.rays == 500 * s.per_ray
+    assert np.array_equal(c1, c2) and np.array_equal(d1, d2)
+    assert len(np.unique(c1)) > 1

@@ -30,11 +30,12 @@ from en17037cli.project.settings import ViewSettings
 
 
 class Sampler:
-    """Traces rays from patches' viewpoints through gnomonic coordinates (X, Y) of their windows.
+    """Traces rays from patches' viewpoints through gnomonic coordinates (X, Y) of their windows (or
+    their angles, calling it).
 
     ``parallel``: trace each call's rays on the engine's threads (False: in the calling thread, for
-    a caller that already runs one :func:`solid_angles` per thread). The rays traced add up in
-    :attr:`rays`; the caller counts them into the engine.
+    a caller that already runs one :func:`solid_angles` per thread). The rays :meth:`trace` traces
+    add up in :attr:`rays` (its caller counts them into the engine); a call counts its own.
     """
 
     def __init__(self, view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, P: Patches, with_distance: bool,
@@ -50,7 +51,15 @@ class Sampler:
         self.per_ray = sum(view_rays.engine.embree_scene(g)[0] is not None for g in self.groups)
         self.rays = 0
 
-    def __call__(self, patch: np.ndarray, X: np.ndarray, Y: np.ndarray):
+    def __call__(self, patch: np.ndarray, A: np.ndarray, B: np.ndarray):
+        """:meth:`trace` at gnomonic angles (alpha, beta) [rad] of the patches; the rays counted in the engine."""
+        rays = self.rays
+        out = self.trace(patch, np.tan(A), np.tan(B))
+        self.view_rays.engine.count_rays(self.rays - rays)
+        self.rays = rays
+        return out
+
+    def trace(self, patch: np.ndarray, X: np.ndarray, Y: np.ndarray):
         """Class of each sample at gnomonic coordinates X = tan(alpha), Y = tan(beta) of its patch
         (-1: outside the window's outline) and perpendicular distance [m] beyond the glazing.
 
@@ -267,7 +276,7 @@ class _Cells:
         if len(need):
             need = need[np.all(self.cls[:4, need] < 0, axis=0)]
         if len(need):
-            c, dd = sample(self.patch[need], np.tan(self.extra[need, 0]), np.tan(self.extra[need, 1]))
+            c, dd = sample.trace(self.patch[need], np.tan(self.extra[need, 0]), np.tan(self.extra[need, 1]))
             self.cls[4, need] = c
             if self.dist is not None:
                 self.dist[4, need] = dd
@@ -311,7 +320,8 @@ class _Cells:
         py = np.clip(np.concatenate([mid[first, 1] + normal[:, 1], mid[first, 1] - normal[:, 1]]), np.tile(Y0, 2), np.tile(Y1, 2))
         self.probe_cell = np.tile(c, 2)  # the two sides of each piece
         # aimed at (atan px, atan py): the probe's angles, as every sample is placed
-        self.probe_cls, self.probe_dist = sample(self.patch[self.probe_cell], np.tan(np.arctan(px)), np.tan(np.arctan(py)))
+        self.probe_cls, self.probe_dist = sample.trace(self.patch[self.probe_cell], np.tan(np.arctan(px)),
+                                                       np.tan(np.arctan(py)))
         return self
 
     def valid_counts(self) -> np.ndarray:
@@ -374,7 +384,7 @@ def _base_cells(sample, P: Patches) -> _Cells:
     sbase = np.concatenate([[0], np.cumsum(ns)[:-1]])
     sp = np.repeat(np.arange(m), ns)
     ia, ib = np.divmod(np.arange(ns.sum()) - sbase[sp], ncb[sp])
-    vcls, vdist = sample(sp, tca[ca_ptr[sp] + ia], tcb[cb_ptr[sp] + ib])
+    vcls, vdist = sample.trace(sp, tca[ca_ptr[sp] + ia], tcb[cb_ptr[sp] + ib])
     # cells: every (alpha interval, beta interval) pair of a patch
     nva, nvb = np.diff(la_ptr), np.diff(lb_ptr)  # lines per patch
     nla, nlb = nva - 1, nvb - 1
@@ -599,7 +609,7 @@ def _split(sample, cells: _Cells, rest: np.ndarray, neighbours: bool = True) -> 
     kept = np.ones(5 * m, dtype=bool)
     kept[twin] = False
     kept = np.flatnonzero(kept)
-    kcls, kdist = sample(np.tile(patch, 5)[kept], X5[kept], Y5[kept])
+    kcls, kdist = sample.trace(np.tile(patch, 5)[kept], X5[kept], Y5[kept])
     ncls = np.empty(5 * m, np.int8)
     ncls[kept] = kcls
     ncls[twin] = ncls[source]
