@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint bench install samples clean mutation bim-corpus
+.PHONY: demo test lint bench goals profile install samples clean mutation bim-corpus
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -49,6 +49,15 @@ bim-corpus: $(STAMP)
 
 bench: $(STAMP) samples
 	$(PY) benchmarks/bench.py --out bench.json
+
+# The speed goals of issue 38 alone (part of `make bench`): docs/performance.md.
+goals: $(STAMP)
+	$(PY) benchmarks/goals.py
+
+# The top functions (cProfile, CPU clock, one ray-tracing thread) of the seed office's check
+# without its daylight section and of the paper's grid: docs/performance.md.
+profile: $(STAMP)
+	$(PY) benchmarks/profiling.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache .hypothesis .mypy_cache .ruff_cache mutants mutation-run.log

@@ -26,6 +26,9 @@ Speed is measured here, never in a timed test. Sections:
 9. **Dask**: ``en17037 batch --scheduler local`` on the block's first 108 rooms (defaults) with 1
    and 2 local workers (each with cores // workers ray-tracing threads): rooms per second, and a
    check that both give the same summary.
+0. **Goals** (issue 38, :mod:`goals`): the seed office's view and sunlight, the paper's grid, a
+   block's time per room added and real exports' time per assessed room, whole process with
+   pictures, as wall and CPU time against their limits.
 9b. **Daylight** (issue 36): daylight provision on the seed office by method 1 (the exact sky
    component and the light paths) and method 2 (the Chicago TMY3 of ``sample_projects/weather``)
    and on a real IFC export, at the defaults: report.json's daylight time, the child process's user
@@ -543,8 +546,8 @@ def _table(title: str, rows: list, columns: list) -> None:
     Console(width=max(100, Console().width)).print(t)
 
 
-SECTIONS = ("throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "citygml", "building", "dask", "daylight", "glare",
-            "targets")
+SECTIONS = ("goals", "throughput", "check", "scaling", "pictures", "sensitivity", "cityjson", "citygml", "building", "dask", "daylight",
+            "glare", "targets")
 
 
 def main(argv=None) -> int:
@@ -557,6 +560,11 @@ def main(argv=None) -> int:
 
     result: dict = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "numpy": np.__version__,
                                 "embreex": getattr(embreex, "__version__", "?"), "platform": platform.platform()}}
+    if "goals" in args.only:
+        from goals import goals, print_goals
+
+        result["goals"] = goals(args.quick)
+        print_goals(result["goals"])
     if "throughput" in args.only:
         result["throughput"] = throughput()
         tp = result["throughput"]

@@ -13,7 +13,8 @@ float32 cast loses nothing that matters near the rooms (see trimesh/ray/ray_pyem
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -175,6 +176,7 @@ class RayEngine:
         for name, faces in (groups or {}).items():
             self.add_group(name, faces)
         self.rays_traced = 0
+        self._count_lock = threading.Lock()
         self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
 
     def __enter__(self) -> RayEngine:
@@ -243,21 +245,30 @@ class RayEngine:
         scale = np.abs(np.asarray(points, dtype=float)).max(axis=-1)
         return np.maximum(MIN_RESTART_OFFSET_M, RESTART_OFFSET_ULPS * np.finfo(np.float32).eps * scale)
 
-    def _map(self, fn, n: int):
+    def _map(self, fn, n: int, parallel: bool = True):
         bounds = [(a, min(a + CHUNK, n)) for a in range(0, n, CHUNK)]
-        if self._pool is None or len(bounds) == 1:
+        if self._pool is None or len(bounds) == 1 or not parallel:
             return [fn(a, b) for a, b in bounds]
         return list(self._pool.map(lambda ab: fn(*ab), bounds))
 
-    def map_chunks(self, fn: Callable[[int, int], object], n: int) -> list:
+    def map_chunks(self, fn: Callable[[int, int], object], n: int, parallel: bool = True) -> list:
         """``fn(a, b)`` over the chunks [a, b) of ``n`` rays on the engine's threads (results in order).
 
         For callers that compute their rays and use the hits per chunk: the maths beside the
         queries (numpy, which releases the GIL on large arrays) then runs on every core too.
         Queries inside ``fn`` go through :meth:`first_hit_chunk` and are counted by the caller
-        (:meth:`count_rays`).
+        (:meth:`count_rays`). ``parallel=False``: in the calling thread (a caller already running
+        on the engine's threads, :meth:`map_tasks`).
         """
-        return self._map(fn, n)
+        return self._map(fn, n, parallel)
+
+    def map_tasks(self, fn: Callable[[object], object], items: list) -> Iterator:
+        """``fn(item)`` for each of ``items`` on the engine's threads, results in order as they are
+        ready (in this thread without a pool). ``fn`` must not use the pool itself: its queries go
+        through :meth:`first_hit_chunk`, or :meth:`map_chunks` with ``parallel=False``."""
+        if self._pool is None or len(items) <= 1:
+            return (fn(x) for x in items)
+        return self._pool.map(fn, items)
 
     def first_hit_chunk(self, group: str, o32: np.ndarray, d32: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`first_hit` of one chunk in the calling thread: contiguous float32 (k, 3) rays,
@@ -272,8 +283,9 @@ class RayEngine:
         return np.where(hit, faces[np.maximum(prim, 0)], -1), np.where(hit, r["tfar"].astype(np.float64), np.inf)
 
     def count_rays(self, n: int) -> None:
-        """Add ``n`` rays traced through :meth:`first_hit_chunk` to :attr:`rays_traced`."""
-        self.rays_traced += n
+        """Add ``n`` rays traced through :meth:`first_hit_chunk` to :attr:`rays_traced` (from any thread)."""
+        with self._count_lock:
+            self.rays_traced += n
 
     def first_hit(self, group: str, origins, directions) -> tuple[np.ndarray, np.ndarray]:
         """Nearest hit of each ray with the faces of ``group``.

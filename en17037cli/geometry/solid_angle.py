@@ -81,10 +81,31 @@ def offset_rectangle_solid_angle(x0, x1, y0, y1) -> np.ndarray:
     Mathar, R. J. (2015), "Solid angle of a rectangular plate", Max-Planck Institute for
     Astronomy, Heidelberg, eq. (23) (the corner case) and its sums over sub-rectangles.
     """
-    def f(x, y):
-        return np.arctan(x * y / np.sqrt(1.0 + x * x + y * y))
-
+    f = corner_solid_angle
     return f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0)
+
+
+def corner_solid_angle(x, y) -> np.ndarray:
+    """Signed solid angle of the rectangle [0, x] x [0, y] on the plane at unit distance from the
+    viewpoint, one corner at the foot of the perpendicular: F(x, y) = atan(x y / sqrt(1 + x^2 + y^2)).
+
+    :func:`offset_rectangle_solid_angle` sums it over a rectangle's corners; a grid of rectangles
+    that share corners needs it once per corner (the same numbers, bit for bit).
+
+    Parameters
+    ----------
+    x, y : array_like [-] (lengths divided by the distance)
+
+    Returns
+    -------
+    ndarray [sr]
+
+    References
+    ----------
+    Mathar, R. J. (2015), "Solid angle of a rectangular plate", Max-Planck Institute for
+    Astronomy, Heidelberg, eq. (23).
+    """
+    return np.arctan(x * y / np.sqrt(1.0 + x * x + y * y))
 
 
 def clipped_solid_angle(tri: np.ndarray, rect: np.ndarray):

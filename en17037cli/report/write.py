@@ -1,20 +1,21 @@
 """Writers of the report files, in a registry, and writing them all as one set (with the pictures)."""
 from __future__ import annotations
 
-import json
 from collections.abc import Callable
 from pathlib import Path
 
 from en17037cli.criteria.glare.report import glare_hours_csv, glare_points_csv
 from en17037cli.report.folder import commit
 from en17037cli.report.html import report_html
+from en17037cli.report.json_text import dumps_indented
 from en17037cli.report.markdown import report_markdown
 from en17037cli.report.tables import daylight_points_csv, rooms_csv, sunlight_days_csv, view_points_csv
 
 
 def report_json(report: dict, figures=()) -> str:
-    """``report.json``: the document, indented, UTF-8, no NaN."""
-    return json.dumps(report, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+    """``report.json``: the document, indented, UTF-8, no NaN (``json.dumps(report, indent=2,
+    ensure_ascii=False, allow_nan=False)``, written by :func:`~.json_text.dumps_indented`)."""
+    return dumps_indented(report) + "\n"
 
 
 #: file name -> writer (document, pictures -> text), in writing order; the pictures

@@ -80,16 +80,27 @@ def _segments(scene: Scene, z: float, layers=(INTERIOR, WINDOW)) -> np.ndarray:
     return seg[np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1) > SNAP_M]
 
 
-def _bridges(lower, segs: np.ndarray, upper: np.ndarray):
+def _bridges(lower, segs: np.ndarray, upper: np.ndarray, guard=None):
     """The pieces of another cut's segments (``upper``) that close a gap of the plan's walls
     (``lower``, the union of ``segs``) in their own line: each end of the piece meets a wall
     segment parallel to it (a lintel over a door, the wall under a sill), not one square to it (a
-    beam, a counter's side)."""
+    beam, a counter's side).
+
+    ``guard``: ``lower`` buffered by :data:`SNAP_M`, prepared (:func:`_guard`; made here if not
+    given). Only the segments that cross its outline are cut against it (an overlay with the whole
+    storey's walls each: the cost of a curtain-walled storey); those inside it have no gap, those
+    clear of it are all gap, as the overlay gives them.
+    """
     import shapely
 
     if len(upper) == 0 or lower.is_empty:
         return []
-    gaps = shapely.line_merge(shapely.union_all(shapely.difference(shapely.linestrings(upper), lower.buffer(SNAP_M))))
+    guard = _guard(lower) if guard is None else guard
+    lines = shapely.linestrings(upper)
+    inside, touch = shapely.within(lines, guard), shapely.intersects(lines, guard)
+    cross = touch & ~inside
+    lines[cross] = shapely.difference(lines[cross], guard)
+    gaps = shapely.line_merge(shapely.union_all(lines[~inside]))
     pieces = [g for g in shapely.get_parts(gaps) if g.geom_type == "LineString" and g.length > 10 * SNAP_M]
     if not pieces:
         return []
@@ -111,6 +122,15 @@ def _bridges(lower, segs: np.ndarray, upper: np.ndarray):
     return out
 
 
+def _guard(lower):
+    """``lower`` buffered by :data:`SNAP_M`, prepared for the predicates of :func:`_bridges`."""
+    import shapely
+
+    guard = lower.buffer(SNAP_M)
+    shapely.prepare(guard)
+    return guard
+
+
 def plan_at(scene: Scene, floor_z: float) -> Plan:
     """The :class:`Plan` of ``scene`` at ``floor_z`` [m, local]."""
     import shapely
@@ -119,7 +139,9 @@ def plan_at(scene: Scene, floor_z: float) -> Plan:
     if len(segs) == 0:
         return Plan(floor_z, shapely.MultiLineString(), [])
     lower = shapely.union_all(shapely.linestrings(segs))
-    walls = shapely.union_all([lower, *(b for h in BRIDGE_HEIGHTS_M for b in _bridges(lower, segs, _segments(scene, floor_z + h)))])
+    guard = _guard(lower)  # once for both cuts
+    walls = shapely.union_all([lower, *(b for h in BRIDGE_HEIGHTS_M
+                                        for b in _bridges(lower, segs, _segments(scene, floor_z + h), guard))])
     cells = enclosed(walls)
     wide = [not c.is_empty and c.area > 1e-4 and shapely.length(shapely.maximum_inscribed_circle(c, SNAP_M)) >= MIN_ROOM_HALF_WIDTH_M
             for c in cells]

@@ -168,7 +168,8 @@ def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv:
         mixed = ((kinds & (kinds - 1)) != 0) | cells.crossed()
         share = (kinds == (1 << SKY)).astype(float)
         mi = np.flatnonzero(mixed)
-        share[mi] = cells.sample_counts(SKY)[mi] / np.maximum(cells.sample_counts()[mi], 1)
+        count = cells.counter(mi)
+        share[mi] = count(SKY) / np.maximum(count(), 1)
         # only cells with sky in them and a sky edge or a window outline across them get finer; they
         # are weighed by their midpoint to decide, by the Gauss rule only if they stay
         split = has_sky & (mixed | ~cells.full) if level < tol.refine_levels else np.zeros(len(share), bool)
@@ -198,7 +199,7 @@ def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv:
             binned += _node_bins(axes, tv, P, cells, fin, share[fin], bins, nbins, np.asarray(normal, float), p)
         if not split.any():
             break
-        cells = _split(sample, cells.take(split))
+        cells = _split(sample, cells, np.flatnonzero(split), neighbours=level + 1 < tol.refine_levels)
     return SkyComponent(value * SC_PER_SR, bound * SC_PER_SR, ncell, binned)
 
 
@@ -208,7 +209,7 @@ def _node_bins(axes, tv, P, cells, fin, share, bins, nbins: int, normal, p: int)
     out = np.zeros(p * nbins)
     if not len(fin):
         return out.reshape(p, nbins)
-    G = cells.G[fin]
+    G = cells.bounds(fin)[0].T
     win = P.win[cells.patch[fin]]
     ha, hb = 0.5 * (G[:, 1] - G[:, 0]), 0.5 * (G[:, 3] - G[:, 2])
     X = np.tan(0.5 * (G[:, 0] + G[:, 1])[:, None] + ha[:, None] * _GX[None])
@@ -238,7 +239,7 @@ def _weigh(axes, tv, P, cells, idx, normal, gauss: bool):
     if not len(idx):
         return np.zeros(0), np.zeros(0)
     win = P.win[cells.patch[idx]]
-    G = cells.G[idx]
+    G = cells.bounds(idx)[0].T
     if gauss:
         fs, qs = cell_integrals(axes[win], tv[win], G, normal)
     else:

@@ -16,8 +16,13 @@ from en17037cli.project.settings import ViewSettings
 from en17037cli.scene.model import Room, Scene
 from en17037cli.standard import Thresholds
 
-#: Base cells per chunk of viewpoints (bounds memory; each chunk is vectorised).
+#: Base cells per chunk of viewpoints of the sight angle (bounds memory; each chunk is vectorised).
 CELLS_PER_CHUNK = 300_000
+#: Base cells per task of the solid angles: the tasks run on the engine's threads, one per thread;
+#: small enough that their arrays (a few MB) are reused by the allocator instead of being mapped
+#: afresh from the system (page faults cost as much as the arithmetic on arrays of 100 MB), large
+#: enough that numpy's per-call overhead stays small (docs/performance.md).
+CELLS_PER_TASK = 40_000
 
 
 #: Viewpoints whose patches are made at once when sizing chunks (bounds memory for frames with many vertices).
@@ -37,12 +42,12 @@ def cells_per_point(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings
     return out
 
 
-def chunks(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> list[slice]:
-    """Slices of ``points`` holding at most about :data:`CELLS_PER_CHUNK` base cells each."""
+def chunks(rg: RoomGeometry, points: np.ndarray, settings: ViewSettings, cells: int = CELLS_PER_CHUNK) -> list[slice]:
+    """Slices of ``points`` holding at most about ``cells`` base cells each."""
     cum = np.cumsum(cells_per_point(rg, points, settings))
     cuts = [0]
     while cuts[-1] < len(points):
-        nxt = int(np.searchsorted(cum, (cum[cuts[-1] - 1] if cuts[-1] else 0) + CELLS_PER_CHUNK, side="right"))
+        nxt = int(np.searchsorted(cum, (cum[cuts[-1] - 1] if cuts[-1] else 0) + cells, side="right"))
         cuts.append(min(max(nxt, cuts[-1] + 1), len(points)))
     return [slice(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
 
@@ -76,17 +81,23 @@ def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, set
     """
     if solid is None and not layers and settings.distance_method == "horizontal":
         solid = no_solid_angles(len(points))
-    solids, sight = [], []
-    for sl in chunks(rg, points, settings):  # chunks bound memory; each chunk is vectorised
-        chunk = points[sl]
-        if solid is None:
-            solids.append(solid_angles(view_rays, rg, chunk, settings))
-        sight.append(horizontal(view_rays, rg, chunk, settings))
-        if progress:
-            progress(len(chunk))
-    if not sight:
+    if len(points) == 0:
         return None
-    sa, hz = (concat(solids) if solid is None else solid), concat(sight)
+    # chunks bound memory; each is vectorised, and a point's values do not depend on its chunk
+    sight = [horizontal(view_rays, rg, points[sl], settings) for sl in chunks(rg, points, settings)]
+    if solid is None:  # small tasks on the engine's threads, each tracing its own rays
+        solids = []
+        tasks = chunks(rg, points, settings, CELLS_PER_TASK)
+        view_rays.engine.prepare(["opaque"] if len(rg.frames) == 1 else ["opaque", rg.group])  # not by two threads at once
+        done = view_rays.engine.map_tasks(lambda sl: solid_angles(view_rays, rg, points[sl], settings, parallel=False), tasks)
+        for sl, res in zip(tasks, done):
+            solids.append(res)
+            if progress:
+                progress(sl.stop - sl.start)
+        solid = concat(solids)
+    elif progress:
+        progress(len(points))
+    sa, hz = solid, concat(sight)
     src = hz if settings.distance_method == "horizontal" else sa
     dist, gap = src.distance_m, src.distance_gap_m
     thr = settings.layer_threshold_sr

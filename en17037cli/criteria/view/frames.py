@@ -2,6 +2,8 @@
 (mullions, transoms, reveals), and the per-room lookups built from them."""
 from __future__ import annotations
 
+import functools
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,6 +17,20 @@ CONVEX_REL = 1e-12
 #: Points within this distance of a convex outline's edges lie on it [m] (shapely's exact test
 #: counts the edges in; this counts round-off of the edges' lines in too).
 ON_OUTLINE_M = 1e-12
+
+#: The window outlines' shapely objects (prepared geometries, STR trees) build their indexes on
+#: first use and are not safe to share between threads: their queries take turns (the view's
+#: solid angles run on several threads; only windows that are not rectangles ask shapely).
+_GEOS = threading.RLock()
+
+
+def _one_thread_at_a_time(method):
+    @functools.wraps(method)
+    def locked(*args, **kwargs):
+        with _GEOS:
+            return method(*args, **kwargs)
+
+    return locked
 
 
 @dataclass
@@ -56,6 +72,7 @@ class WindowFrame:
     #: (e, 3) half-planes of the outline where it is convex (:func:`~en17037cli.geometry.convex_halfplanes`), else empty
     _convex: np.ndarray | None = None
 
+    @_one_thread_at_a_time
     def _outline_index(self):
         import shapely
 
@@ -84,8 +101,10 @@ class WindowFrame:
         hp = self._halfplanes()
         if len(hp):
             return points_in_convex(hp, x, y, ON_OUTLINE_M)
-        return shapely.intersects_xy(self._outline_index()[0], x, y)
+        with _GEOS:
+            return shapely.intersects_xy(self._outline_index()[0], x, y)
 
+    @_one_thread_at_a_time
     def meets_glazing(self, x0, y0, x1, y1) -> np.ndarray:
         """Whether segments (plane coordinates [m] of their ends) meet the glazing's outline polygon."""
         import shapely
@@ -103,11 +122,15 @@ class WindowFrame:
             crosses it whole would pass: no real window has one)
         disjoint : (m,) bool, the box does not meet the outline polygon
         """
-        import shapely
-
         hp = self._halfplanes()
         if len(hp):  # vectorised, exact for a convex outline
             return boxes_vs_convex(hp, (self.xmin, self.xmax, self.ymin, self.ymax), x0, x1, y0, y1, ON_OUTLINE_M)
+        with _GEOS:
+            return self._classify_boxes_shapely(x0, x1, y0, y1)
+
+    def _classify_boxes_shapely(self, x0, x1, y0, y1) -> tuple[np.ndarray, np.ndarray]:
+        import shapely
+
         outline, vertex_tree = self._outline_index()
         inside = np.ones(len(x0), dtype=bool)
         for x, y in ((x0, y0), (x1, y0), (x0, y1), (x1, y1)):  # the four corners
@@ -122,6 +145,7 @@ class WindowFrame:
             disjoint[other] = ~shapely.intersects(outline, shapely.box(x0[other], y0[other], x1[other], y1[other]))
         return inside, disjoint
 
+    @_one_thread_at_a_time
     def triangle_pairs(self, xmin, xmax, ymin, ymax) -> tuple[np.ndarray, np.ndarray]:
         """(query index, triangle index) of every axis-aligned box (plane coordinates [m]) whose
         bounding box meets a triangle's bounding box (touching included), from an STR tree of the

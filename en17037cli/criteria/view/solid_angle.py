@@ -10,6 +10,9 @@ thinned), are mixed; mixed cells are split in four, up to ``refine_levels`` time
 layer's estimated error is within max(``solid_angle_rel_tolerance`` x its solid angle,
 ``solid_angle_abs_tolerance_sr``). Error estimate: half the solid angle of the cells still mixed.
 Cells crossed by a frame edge's image are also sampled just beside it (:meth:`_Cells.sample_probes`).
+A split traces the middle of a side two split cells share once (:func:`_twins`). The caller may
+run several calls at once on the engine's threads (``parallel=False``): a point's values depend on
+no other point.
 """
 from __future__ import annotations
 
@@ -22,22 +25,43 @@ from en17037cli.criteria.view.frames import RoomGeometry
 from en17037cli.criteria.view.gnomonic import Patches, grid_lines, patches
 from en17037cli.criteria.view.rays import BLOCKED, GROUND_HIT, LANDSCAPE_HIT, SKY, ViewRays
 from en17037cli.criteria.view.results import SolidAngles
-from en17037cli.geometry import clipped_solid_angle, in_triangle, offset_rectangle_solid_angle
+from en17037cli.geometry import clipped_solid_angle, corner_solid_angle, in_triangle
 from en17037cli.project.settings import ViewSettings
 
 
 class Sampler:
-    """Traces rays from patches' viewpoints through gnomonic angles (alpha, beta) of their windows."""
+    """Traces rays from patches' viewpoints through gnomonic coordinates (X, Y) of their windows (or
+    their angles, calling it).
 
-    def __init__(self, view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, P: Patches, with_distance: bool):
+    ``parallel``: trace each call's rays on the engine's threads (False: in the calling thread, for
+    a caller that already runs one :func:`solid_angles` per thread). The rays :meth:`trace` traces
+    add up in :attr:`rays` (its caller counts them into the engine); a call counts its own.
+    """
+
+    def __init__(self, view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, P: Patches, with_distance: bool,
+                 parallel: bool = True):
         self.view_rays, self.rg, self.P = view_rays, rg, P
         self.points32 = points.astype(np.float32)
         self.U, self.V, self.N = rg.frame_array("u"), rg.frame_array("v"), rg.frame_array("n")
         self.rect = rg.frame_array("is_rectangle")
         self.with_distance = with_distance
+        self.parallel = parallel
+        self.groups = ["opaque"] if len(rg.frames) == 1 else ["opaque", rg.group]
+        view_rays.engine.prepare(self.groups)  # built here, not by two threads at once
+        self.per_ray = sum(view_rays.engine.embree_scene(g)[0] is not None for g in self.groups)
+        self.rays = 0
 
     def __call__(self, patch: np.ndarray, A: np.ndarray, B: np.ndarray):
-        """Class of each sample (-1: outside the window's outline) and perpendicular distance [m] beyond the glazing.
+        """:meth:`trace` at gnomonic angles (alpha, beta) [rad] of the patches; the rays counted in the engine."""
+        rays = self.rays
+        out = self.trace(patch, np.tan(A), np.tan(B))
+        self.view_rays.engine.count_rays(self.rays - rays)
+        self.rays = rays
+        return out
+
+    def trace(self, patch: np.ndarray, X: np.ndarray, Y: np.ndarray):
+        """Class of each sample at gnomonic coordinates X = tan(alpha), Y = tan(beta) of its patch
+        (-1: outside the window's outline) and perpendicular distance [m] beyond the glazing.
 
         A sample counts for its window when no opaque face and no nearer window of the room lie
         before the glazing; then :meth:`~en17037cli.criteria.view.rays.ViewRays.outside_class` classifies it.
@@ -49,7 +73,6 @@ class Sampler:
         P, rg = self.P, self.rg
         idx = None
         if not self.rect.all():
-            X, Y = np.tan(A), np.tan(B)
             w = P.win[patch]
             inside = self.rect[w].copy()
             for f in rg.frames:  # outline test for windows that are not rectangles
@@ -58,7 +81,7 @@ class Sampler:
                     ps = patch[sel]
                     inside[sel] = f.on_glazing(P.x0[ps] + P.d[ps] * X[sel], P.y0[ps] + P.d[ps] * Y[sel])
             idx = np.flatnonzero(inside)
-            patch, A, B = patch[idx], A[idx], B[idx]
+            patch, X, Y = patch[idx], X[idx], Y[idx]
         n = len(patch)
         c = np.empty(n, dtype=np.int8)
         dist = np.empty(n) if self.with_distance else None
@@ -67,14 +90,17 @@ class Sampler:
 
         def chunk(a: int, b: int) -> None:  # the rays of [a, b): directions, queries, classes, in one thread
             pa = patch[a:b]
-            X, Y = np.tan(A[a:b]), np.tan(B[a:b])
-            w = P.win[pa]
-            secant = np.sqrt(1.0 + X * X + Y * Y)
+            x, y = X[a:b], Y[a:b]
+            secant = np.sqrt(1.0 + x * x + y * y)
             inv = 1.0 / secant
             dirs = np.empty((b - a, 3), dtype=np.float32)  # Embree's precision, built column by column
-            for k in range(3):  # the three coordinates
-                u, v, nn = (q[0, k] if one else q[w, k] for q in (self.U, self.V, self.N))
-                dirs[:, k] = (X * u + Y * v + nn) * inv
+            if one:
+                for k in range(3):  # the three coordinates
+                    dirs[:, k] = (x * self.U[0, k] + y * self.V[0, k] + self.N[0, k]) * inv
+            else:
+                w = P.win[pa]
+                for k in range(3):
+                    dirs[:, k] = (x * self.U[w, k] + y * self.V[w, k] + self.N[w, k]) * inv
             t_w = P.d[pa] * secant  # distance to the glazing plane [m]
             origins = self.points32[P.pt[pa]]
             f_o, t_o = engine.first_hit_chunk("opaque", origins, dirs)
@@ -88,10 +114,8 @@ class Sampler:
             if dist is not None:
                 dist[a:b] = np.where(cc == LANDSCAPE_HIT, (t_o - t_w) / secant, np.inf)
 
-        groups = ["opaque"] if one else ["opaque", rg.group]
-        engine.prepare(groups)  # built here, not by two threads at once
-        engine.map_chunks(chunk, n)
-        engine.count_rays(n * sum(engine.embree_scene(g)[0] is not None for g in groups))
+        engine.map_chunks(chunk, n, parallel=self.parallel)
+        self.rays += n * self.per_ray
         if idx is not None:
             full_c = np.full(len(inside), -1, dtype=np.int8)
             full_c[idx] = c
@@ -103,34 +127,35 @@ class Sampler:
         return c, dist
 
 
-def _cell_weights(rg: RoomGeometry, P: Patches, patch, G, full):
+def _clip_weights(rg: RoomGeometry, P: Patches, patch, tans, weight, full):
     """Exact solid angle [sr] of each cell's part inside its window, and a sample point for cells
     whose corners may all lie outside the window (NaN elsewhere).
 
-    Cells of rectangular windows, and cells already known to lie inside (``full``), weigh the
-    rectangle formula; the others are clipped against the window's triangles that overlap them
-    (found with an STR tree, so a finely tessellated round window costs no more than its overlaps).
+    Cells of rectangular windows, and cells already known to lie inside (``full``), keep
+    ``weight`` (the rectangle formula); the others are clipped against the window's triangles that
+    overlap them (found with an STR tree, so a finely tessellated round window costs no more than
+    its overlaps).
 
     Parameters
     ----------
-    G : (m, >= 4) float, cell bounds alpha0, alpha1, beta0, beta1 [rad] in the first columns
+    tans : ``tans(sel)``, the bounds X0, X1, Y0, Y1 of cells ``sel`` (indices) in gnomonic
+        coordinates [-] (tangents of the angles)
+    weight : (m,) float [sr], each cell's whole rectangle
 
     Returns
     -------
-    weight (m,) [sr], full (m,) bool, extra (m, 2) [rad]
+    weight (m,) [sr], full (m,) bool, extra (m, 2) [rad] or None where no cell was clipped
     """
-    X0, X1, Y0, Y1 = (np.tan(G[:, i]) for i in range(4))
-    weight = offset_rectangle_solid_angle(X0, X1, Y0, Y1)
-    full = full.copy()
-    extra = np.full((len(G), 2), np.nan)
     if full.all():
-        return weight, full, extra
+        return weight, full, None
+    full = full.copy()
+    extra = np.full((len(weight), 2), np.nan)
     w = P.win[patch]
     for f in rg.frames:  # clipping, for windows that are not rectangles
         sel = np.flatnonzero((w == f.index) & ~f.is_rectangle & ~full)
         if len(sel) == 0:
             continue
-        wsum, is_full, ex = _clip_cells(f, P, patch[sel], X0[sel], X1[sel], Y0[sel], Y1[sel])
+        wsum, is_full, ex = _clip_cells(f, P, patch[sel], *tans(sel))
         weight[sel] = np.where(is_full, weight[sel], wsum)
         full[sel] = is_full
         extra[sel] = np.where(is_full[:, None], np.nan, ex)
@@ -178,11 +203,16 @@ LAYER_CODES = (("sky", SKY), ("landscape", LANDSCAPE_HIT), ("ground", GROUND_HIT
 
 @dataclass
 class _Cells:
-    """Sampling cells: bounds and sample positions in (alpha, beta), their samples' classes, weights.
+    """Sampling cells, one column per cell: bounds and sample positions, their samples' classes, weights.
 
-    G columns: alpha0, alpha1, beta0, beta1 (the cell), then the same for its samples (moved
-    inwards on a window's outline) [rad]. ``cls`` columns: corners (a0 b0), (a1 b0), (a0 b1),
-    (a1 b1) and one extra sample inside the window for cells with no corner in it (-1: none).
+    Bounds (:meth:`bounds`): ``G`` rows alpha0, alpha1, beta0, beta1 of the cell [rad]; ``T`` rows
+    their tangents X0, X1, Y0, Y1 (the cell in gnomonic coordinates [-]), then the gnomonic
+    coordinates of the lines its samples lie on, moved inwards on a window's outline. They are
+    column ``src`` of ``GG`` and ``TT``, or for the children of a split (``q``: 0-3) rows of their
+    parent's (:data:`_CHILDREN`), made only for the cells that need them. ``cls`` rows: corners
+    (a0 b0), (a1 b0), (a0 b1), (a1 b1) and one extra sample inside the window for cells with no
+    corner in it (-1: none); ``dist`` likewise. ``extra``: (m, 2) the extra sample's angles [rad]
+    (NaN: none; None: no cell has one).
     ``piece_cell`` and ``piece_xy``: the pieces of frame-edge images inside each cell (cell index;
     endpoints X0, Y0, X1, Y1 in gnomonic coordinates [-]); a cell with a piece counts as mixed.
     ``probe_cell``, ``probe_cls``, ``probe_dist``: samples just beside those pieces, as many per
@@ -190,40 +220,66 @@ class _Cells:
     """
 
     patch: np.ndarray
-    G: np.ndarray
+    GG: np.ndarray
+    TT: np.ndarray
+    src: np.ndarray
+    q: np.ndarray | None
     cls: np.ndarray
     dist: np.ndarray | None
     w: np.ndarray
     full: np.ndarray
-    extra: np.ndarray
+    extra: np.ndarray | None
     piece_cell: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     piece_xy: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     probe_cell: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     probe_cls: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
     probe_dist: np.ndarray | None = None
+    #: (4, m) int: the cell of the same size across its bottom, top, left and right side (-1: none
+    #: among these cells), for the cells that may be split
+    nb: np.ndarray | None = None
 
     def take(self, sel) -> _Cells:
-        sel = np.arange(len(self.w))[sel]
-        new = np.full(len(self.w), -1, np.int64)
+        sel = np.flatnonzero(sel) if sel.dtype == bool else sel
+        new = np.full(len(self.w) + 1, -1, np.int64)  # the last: where -1 (no cell) goes
         new[sel] = np.arange(len(sel))
         pc, qc = new[self.piece_cell], new[self.probe_cell]
         keep, kq = pc >= 0, qc >= 0
-        return _Cells(self.patch[sel], self.G[sel], self.cls[sel], None if self.dist is None else self.dist[sel],
-                      self.w[sel], self.full[sel], self.extra[sel], pc[keep], self.piece_xy[keep],
-                      qc[kq], self.probe_cls[kq], None if self.probe_dist is None else self.probe_dist[kq])
+        return _Cells(self.patch[sel], self.GG, self.TT, self.src[sel], None if self.q is None else self.q[sel],
+                      self.cls[:, sel], None if self.dist is None else self.dist[:, sel], self.w[sel], self.full[sel],
+                      None if self.extra is None else self.extra[sel], pc[keep], self.piece_xy[keep], qc[kq],
+                      self.probe_cls[kq], None if self.probe_dist is None else self.probe_dist[kq],
+                      None if self.nb is None else new[self.nb[:, sel]])
+
+    def bounds(self, sel) -> tuple[np.ndarray, np.ndarray]:
+        """``G`` (4, k) and ``T`` (8, k) of cells ``sel`` (indices)."""
+        s = self.src[sel]
+        if self.q is None:
+            return self.GG[:, s], self.TT[:, s]
+        q, mp = self.q[sel], self.GG.shape[1]
+        return self.GG.ravel()[_KID_G[q].T * mp + s], self.TT.ravel()[_KID_T[q].T * mp + s]
+
+    def tans(self, sel) -> tuple[np.ndarray, ...]:
+        """X0, X1, Y0, Y1 of cells ``sel`` (indices) [-]."""
+        return tuple(self.bounds(sel)[1][:4])
 
     def crossed(self) -> np.ndarray:
         """(m,) bool, the cells crossed by the image of a frame edge."""
-        return np.bincount(self.piece_cell, minlength=len(self.w)) > 0
+        out = np.zeros(len(self.w), dtype=bool)
+        out[self.piece_cell] = True
+        return out
 
     def sample_extra(self, sample) -> _Cells:
         """Trace a sample inside the window's part of every cell none of whose corners lies in the window."""
-        need = np.flatnonzero(np.all(self.cls[:, :4] < 0, axis=1) & np.isfinite(self.extra[:, 0]))
+        if self.extra is None:
+            return self
+        need = np.flatnonzero(np.isfinite(self.extra[:, 0]))
         if len(need):
-            c, dd = sample(self.patch[need], self.extra[need, 0], self.extra[need, 1])
-            self.cls[need, 4] = c
+            need = need[np.all(self.cls[:4, need] < 0, axis=0)]
+        if len(need):
+            c, dd = sample.trace(self.patch[need], np.tan(self.extra[need, 0]), np.tan(self.extra[need, 1]))
+            self.cls[4, need] = c
             if self.dist is not None:
-                self.dist[need, 4] = dd
+                self.dist[4, need] = dd
         return self
 
     def sample_probes(self, sample) -> _Cells:
@@ -239,6 +295,8 @@ class _Cells:
         falls in each part is probed: the many short pieces of a finely tessellated frame cost
         at most that many probes per cell.
         """
+        if len(self.piece_cell) == 0:
+            return self
         kinds = self.kinds()
         agree = np.flatnonzero((kinds & (kinds - 1))[self.piece_cell] == 0)
         if len(agree) == 0:
@@ -247,36 +305,64 @@ class _Cells:
         d = xy[:, 2:] - xy[:, :2]
         length = np.hypot(d[:, 0], d[:, 1])
         mid = 0.5 * (xy[:, :2] + xy[:, 2:])
-        G = self.G[pc]
+        G, T = self.bounds(pc)
         am, bm = np.arctan(mid[:, 0]), np.arctan(mid[:, 1])
-        ia = np.clip(((am - G[:, 0]) / (G[:, 1] - G[:, 0]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
-        ib = np.clip(((bm - G[:, 2]) / (G[:, 3] - G[:, 2]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
+        ia = np.clip(((am - G[0]) / (G[1] - G[0]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
+        ib = np.clip(((bm - G[2]) / (G[3] - G[2]) * PROBE_BINS).astype(np.int64), 0, PROBE_BINS - 1)
         part = pc * PROBE_BINS * PROBE_BINS + ia * PROBE_BINS + ib
         order = np.lexsort((-length, part))
         first = order[np.r_[True, part[order][1:] != part[order][:-1]]]
         c = pc[first]
-        X0, X1, Y0, Y1 = (np.tan(self.G[c, i]) for i in range(4))
+        X0, X1, Y0, Y1 = T[0, first], T[1, first], T[2, first], T[3, first]
         step = PROBE_INSET * np.minimum(X1 - X0, Y1 - Y0) / length[first]
         normal = np.column_stack([-d[first, 1], d[first, 0]]) * step[:, None]
         px = np.clip(np.concatenate([mid[first, 0] + normal[:, 0], mid[first, 0] - normal[:, 0]]), np.tile(X0, 2), np.tile(X1, 2))
         py = np.clip(np.concatenate([mid[first, 1] + normal[:, 1], mid[first, 1] - normal[:, 1]]), np.tile(Y0, 2), np.tile(Y1, 2))
         self.probe_cell = np.tile(c, 2)  # the two sides of each piece
-        self.probe_cls, self.probe_dist = sample(self.patch[self.probe_cell], np.arctan(px), np.arctan(py))
+        # aimed at (atan px, atan py): the probe's angles, as every sample is placed
+        self.probe_cls, self.probe_dist = sample.trace(self.patch[self.probe_cell], np.tan(np.arctan(px)),
+                                                       np.tan(np.arctan(py)))
         return self
 
-    def sample_counts(self, code=None) -> np.ndarray:
-        """(m,) int, per cell: its samples (corners, extra, probes) of class ``code``, or valid ones (None)."""
-        if code is None:
-            return (self.cls >= 0).sum(axis=1) + np.bincount(self.probe_cell, self.probe_cls >= 0, len(self.w)).astype(np.int64)
-        return (self.cls == code).sum(axis=1) + np.bincount(self.probe_cell, self.probe_cls == code, len(self.w)).astype(np.int64)
+    def valid_counts(self) -> np.ndarray:
+        """(m,) int, per cell: its valid samples (corners, extra, probes)."""
+        return _row_sum(self.cls >= 0) + np.bincount(self.probe_cell, self.probe_cls >= 0, len(self.w)).astype(np.int64)
+
+    def counter(self, rows: np.ndarray):
+        """``count(code)``: (k,) int, per cell of ``rows`` (indices), its samples (corners, extra,
+        probes) of class ``code``, or its valid ones (None)."""
+        cls = self.cls[:, rows]
+        at = np.full(len(self.w), -1, np.int64)
+        at[rows] = np.arange(len(rows))
+        pq = at[self.probe_cell]
+        on = pq >= 0
+        pq, pcls = pq[on], self.probe_cls[on]
+
+        def count(code=None) -> np.ndarray:
+            if code is None:
+                return _row_sum(cls >= 0) + np.bincount(pq, pcls >= 0, len(rows)).astype(np.int64)
+            return _row_sum(cls == code) + np.bincount(pq, pcls == code, len(rows)).astype(np.int64)
+
+        return count
 
     def kinds(self) -> np.ndarray:
         """(m,) uint8, per cell: bit c set when a sample (corners, extra, probes) has class c."""
-        cls = self.cls
-        kinds = np.bitwise_or.reduce(np.where(cls >= 0, np.left_shift(1, np.maximum(cls, 0)), 0).astype(np.uint8), axis=1)
-        ok = self.probe_cls >= 0
-        np.bitwise_or.at(kinds, self.probe_cell[ok], np.left_shift(1, self.probe_cls[ok].astype(np.int64)).astype(np.uint8))
+        kinds = np.bitwise_or.reduce(_kind_bits(self.cls), axis=0)
+        if len(self.probe_cell):
+            ok = self.probe_cls >= 0
+            np.bitwise_or.at(kinds, self.probe_cell[ok], _kind_bits(self.probe_cls[ok]))
         return kinds
+
+
+def _row_sum(flags: np.ndarray) -> np.ndarray:
+    """(m,) int64: the true flags of each column of (5, m) bool ``flags`` (``flags.sum(axis=0)``, row by row)."""
+    f = flags.view(np.uint8)
+    return (f[0] + f[1] + f[2] + f[3] + f[4]).astype(np.int64)
+
+
+def _kind_bits(cls: np.ndarray) -> np.ndarray:
+    """1 << c (uint8) for each sample class c, 0 for -1 (no sample): (1 << (c + 1)) >> 1."""
+    return np.right_shift(np.left_shift(np.uint8(1), (cls + 1).view(np.uint8)), 1)
 
 
 #: A cell is probed beside at most one piece of frame-edge image in each of this many parts per axis.
@@ -286,9 +372,11 @@ PROBE_INSET = 1e-2
 
 
 def _base_cells(sample, P: Patches) -> _Cells:
-    """Level-0 cells of every patch, their corner samples traced once each (shared between cells)."""
+    """Level-0 cells of every patch, their corner samples traced once each (shared between cells),
+    their weights from the corner term of every grid vertex (shared likewise)."""
     la_ptr, la, la_l, la_r, ca_ptr, ca = grid_lines(P.a0, P.a1, P.na, P.frame_pt[0], P.frame_val[0])
     lb_ptr, lb, lb_l, lb_r, cb_ptr, cb = grid_lines(P.b0, P.b1, P.nb, P.frame_pt[1], P.frame_val[1])
+    tla, tlb, tca, tcb = np.tan(la), np.tan(lb), np.tan(ca), np.tan(cb)
     m = len(P)
     nca, ncb = np.diff(ca_ptr), np.diff(cb_ptr)
     # samples: every (alpha column, beta column) pair of a patch
@@ -296,27 +384,47 @@ def _base_cells(sample, P: Patches) -> _Cells:
     sbase = np.concatenate([[0], np.cumsum(ns)[:-1]])
     sp = np.repeat(np.arange(m), ns)
     ia, ib = np.divmod(np.arange(ns.sum()) - sbase[sp], ncb[sp])
-    vcls, vdist = sample(sp, ca[ca_ptr[sp] + ia], cb[cb_ptr[sp] + ib])
+    vcls, vdist = sample.trace(sp, tca[ca_ptr[sp] + ia], tcb[cb_ptr[sp] + ib])
     # cells: every (alpha interval, beta interval) pair of a patch
-    nla, nlb = np.diff(la_ptr) - 1, np.diff(lb_ptr) - 1
+    nva, nvb = np.diff(la_ptr), np.diff(lb_ptr)  # lines per patch
+    nla, nlb = nva - 1, nvb - 1
     nc = nla * nlb
     cbase = np.concatenate([[0], np.cumsum(nc)[:-1]])
     cp = np.repeat(np.arange(m), nc)
     i, j = np.divmod(np.arange(nc.sum()) - cbase[cp], nlb[cp])
     li, lj = la_ptr[cp] + i, lb_ptr[cp] + j  # global index of the cell's lower lines
-
-    def sample_index(col_a, col_b):
-        return sbase[cp] + (col_a - ca_ptr[cp]) * ncb[cp] + (col_b - cb_ptr[cp])
-
-    corner = np.stack([sample_index(la_r[li], lb_r[lj]), sample_index(la_l[li + 1], lb_r[lj]),
-                       sample_index(la_r[li], lb_l[lj + 1]), sample_index(la_l[li + 1], lb_l[lj + 1])], axis=1)
-    G = np.column_stack([la[li], la[li + 1], lb[lj], lb[lj + 1],
-                         ca[la_r[li]], ca[la_l[li + 1]], cb[lb_r[lj]], cb[lb_l[lj + 1]]])
-    cls = np.concatenate([vcls[corner], np.full((len(cp), 1), -1, np.int8)], axis=1)
-    dist = None if vdist is None else np.concatenate([vdist[corner], np.full((len(cp), 1), np.inf)], axis=1)
-    weight, full, extra = _cell_weights(sample.rg, P, cp, G, sample.rect[P.win[cp]])
+    a_lo, a_hi, b_lo, b_hi = la_r[li], la_l[li + 1], lb_r[lj], lb_l[lj + 1]  # the sample columns of its sides
+    # its corner samples: sbase + (alpha column - first) * ncb + (beta column - first) in its patch
+    n, nbc = len(cp), ncb[cp]
+    s0 = sbase[cp] - ca_ptr[cp] * nbc - cb_ptr[cp]
+    sa_lo, sa_hi = a_lo * nbc + s0, a_hi * nbc + s0
+    cls = np.empty((5, n), np.int8)
+    dist = None if vdist is None else np.empty((5, n))
+    for k, corner in enumerate((sa_lo + b_lo, sa_hi + b_lo, sa_lo + b_hi, sa_hi + b_hi)):
+        cls[k] = vcls[corner]
+        if dist is not None:
+            dist[k] = vdist[corner]
+    cls[4] = -1
+    if dist is not None:
+        dist[4] = np.inf
+    G = np.stack([la[li], la[li + 1], lb[lj], lb[lj + 1]])
+    T = np.stack([tla[li], tla[li + 1], tlb[lj], tlb[lj + 1], tca[a_lo], tca[a_hi], tcb[b_lo], tcb[b_hi]])
+    idx = np.arange(n)
+    # weights: the corner term at every grid vertex of a patch, combined per cell
+    nv = nva * nvb
+    vbase = np.concatenate([[0], np.cumsum(nv)[:-1]])
+    vp = np.repeat(np.arange(m), nv)
+    va, vb = np.divmod(np.arange(nv.sum()) - vbase[vp], nvb[vp])
+    F = corner_solid_angle(tla[la_ptr[vp] + va], tlb[lb_ptr[vp] + vb])
+    v00 = vbase[cp] + i * nvb[cp] + j
+    v10 = v00 + nvb[cp]
+    weight = F[v10 + 1] - F[v00 + 1] - F[v10] + F[v00]  # offset_rectangle_solid_angle(X0, X1, Y0, Y1)
+    weight, full, extra = _clip_weights(sample.rg, P, cp, lambda sel: tuple(T[:4, sel]), weight, sample.rect[P.win[cp]])
     pc, pxy = edge_pieces(P, la_ptr, la, lb_ptr, lb, cbase, nlb)
-    cells = _Cells(cp, G, cls, dist, weight, full, extra, pc, pxy)
+    nbc, nac = nlb[cp], nla[cp]
+    nb = np.stack([np.where(j > 0, idx - 1, -1), np.where(j < nbc - 1, idx + 1, -1),
+                   np.where(i > 0, idx - nbc, -1), np.where(i < nac - 1, idx + nbc, -1)])
+    cells = _Cells(cp, G, T, idx, None, cls, dist, weight, full, extra, pc, pxy, nb=nb)
     if not full.all():
         cells = cells.take(weight > 0)
     return cells.sample_extra(sample).sample_probes(sample)
@@ -436,49 +544,133 @@ def _split_pieces(cell, xy, Xm, Ym) -> tuple[np.ndarray, np.ndarray]:
     return q * m + c, np.concatenate([p0 + ta * dp, p0 + tb * dp], axis=1)
 
 
-#: The four children of a cell: for each, its bounds and sample positions as columns of
-#: [A0, A1, B0, B1, SA0, SA1, SB0, SB1, Am, Bm], and its corner samples as indices into
-#: [parent corners 0-3, new samples 4-8 (bottom, top, left and right edge midpoints, centre)].
+#: The four children of a cell: for each, its rows of ``T`` as indices into [X0, X1, Y0, Y1, SX0,
+#: SX1, SY0, SY1, Xm, Ym] (its rows of ``G``: the first four, Xm and Ym standing for Am and Bm),
+#: its corner samples as indices into [parent corners 0-3, new samples 4-8 (bottom, top, left and
+#: right edge midpoints, centre)], and its place (i, j) in the 2 x 2 split.
 _CHILDREN = (
-    ((0, 8, 2, 9, 4, 8, 6, 9), (0, 4, 6, 8)),
-    ((8, 1, 2, 9, 8, 5, 6, 9), (4, 1, 8, 7)),
-    ((0, 8, 9, 3, 4, 8, 9, 7), (6, 8, 2, 5)),
-    ((8, 1, 9, 3, 8, 5, 9, 7), (8, 7, 5, 3)),
+    ((0, 8, 2, 9, 4, 8, 6, 9), (0, 4, 6, 8), (0, 0)),
+    ((8, 1, 2, 9, 8, 5, 6, 9), (4, 1, 8, 7), (1, 0)),
+    ((0, 8, 9, 3, 4, 8, 9, 7), (6, 8, 2, 5), (0, 1)),
+    ((8, 1, 9, 3, 8, 5, 9, 7), (8, 7, 5, 3), (1, 1)),
 )
+#: Rows of the parent's [X0, X1, Y0, Y1, SX0, SX1, SY0, SY1, Xm, Ym] and [A0, A1, B0, B1, Am, Bm]
+#: that are each child's ``T`` and ``G``.
+_KID_T = np.array([rows for rows, _, _ in _CHILDREN])
+_KID_G = np.where(_KID_T[:, :4] >= 8, _KID_T[:, :4] - 4, _KID_T[:, :4])
 
 
-def _split(sample, cells: _Cells) -> _Cells:
-    """Split cells in four at their angular midpoints; five new samples per cell."""
-    m = len(cells.w)
-    G = cells.G
-    Am, Bm = 0.5 * (G[:, 0] + G[:, 1]), 0.5 * (G[:, 2] + G[:, 3])
-    # new samples: bottom, top, left, right edge midpoints and the centre
-    na = np.concatenate([Am, Am, G[:, 4], G[:, 5], Am])
-    nb = np.concatenate([G[:, 6], G[:, 7], Bm, Bm, Bm])
-    ncls, ndist = sample(np.tile(cells.patch, 5), na, nb)
-    GG = np.column_stack([G, Am, Bm])
-    cls = np.concatenate([cells.cls[:, :4], ncls.reshape(5, m).T], axis=1)
-    dist = None if ndist is None else np.concatenate([cells.dist[:, :4], ndist.reshape(5, m).T], axis=1)
-    kid_G = np.concatenate([GG[:, list(cols)] for cols, _ in _CHILDREN])
-    kid_cls = np.concatenate([np.column_stack([cls[:, list(cor)], np.full(m, -1, np.int8)]) for _, cor in _CHILDREN])
-    kid_dist = None if dist is None else np.concatenate(
-        [np.column_stack([dist[:, list(cor)], np.full(m, np.inf)]) for _, cor in _CHILDREN])
-    patch = np.tile(cells.patch, 4)
-    full = np.tile(cells.full, 4)
-    w, full, extra = _cell_weights(sample.rg, sample.P, patch, kid_G, full)
-    pc, pxy = _split_pieces(cells.piece_cell, cells.piece_xy, np.tan(Am), np.tan(Bm))
-    kids = _Cells(patch, kid_G, kid_cls, kid_dist, w, full, extra, pc, pxy)
+#: The neighbours of each child (0-3: lower left, lower right, upper left, upper right) across its
+#: bottom, top, left and right side: (0, k) its sibling k, (1, k) child k of its parent's neighbour there.
+_KID_NB = (((1, 2), (0, 2), (1, 1), (0, 1)), ((1, 3), (0, 3), (0, 0), (1, 0)),
+           ((0, 0), (1, 0), (1, 3), (0, 3)), ((0, 1), (1, 1), (0, 2), (1, 2)))
+
+
+def _twins(cells: _Cells, at: np.ndarray, rest: np.ndarray, X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(twin, source): the new samples of cells ``rest`` that are the same ray as a neighbour's, both
+    split now (the middle of the side they share: a cell's bottom and left samples are its
+    neighbours' top and right ones), as indices into the 5 m new samples (block k: sample k of
+    every cell), and the sample each repeats. ``at``: each cell's place in ``rest`` (-1: not split)."""
+    none = np.zeros(0, np.int64)
+    if cells.nb is None:
+        return none, none
+    m = len(rest)
+    r = np.arange(m)
+    twin, source = [none], [none]
+    for side, facing in ((0, 1), (2, 3)):
+        n = at[cells.nb[side, rest]]
+        ok = n >= 0
+        twin.append(side * m + r[ok])
+        source.append(facing * m + n[ok])
+    t, s = np.concatenate(twin), np.concatenate(source)
+    same = (X[t] == X[s]) & (Y[t] == Y[s])  # a side sampled on both sides of a frame line: two rays
+    return t[same], s[same]
+
+
+def _split(sample, cells: _Cells, rest: np.ndarray, neighbours: bool = True) -> _Cells:
+    """Split cells ``rest`` (indices) in four at their angular midpoints; five new samples per cell
+    (a side's middle once where the cells on both sides are split); ``neighbours``: find the
+    children's (:attr:`_Cells.nb`), for another split.
+
+    The children's weights come from the corner term at the 3 x 3 vertices of each cell (the
+    numbers of :func:`~en17037cli.geometry.offset_rectangle_solid_angle`, each vertex once).
+    """
+    m = len(rest)
+    patch = cells.patch[rest]
+    G, T = cells.bounds(rest)
+    Am, Bm = 0.5 * (G[0] + G[1]), 0.5 * (G[2] + G[3])
+    Xm, Ym = np.tan(Am), np.tan(Bm)
+    # new samples: bottom, top, left, right edge midpoints and the centre; the middle of an edge two
+    # children of one cell share, both split, is traced once
+    X5, Y5 = np.concatenate([Xm, Xm, T[4], T[5], Xm]), np.concatenate([T[6], T[7], Ym, Ym, Ym])
+    at = np.full(len(cells.w) + 1, -1, np.int64)  # the last: where -1 (no cell) goes
+    at[rest] = np.arange(m)
+    twin, source = _twins(cells, at, rest, X5, Y5)
+    kept = np.ones(5 * m, dtype=bool)
+    kept[twin] = False
+    kept = np.flatnonzero(kept)
+    kcls, kdist = sample.trace(np.tile(patch, 5)[kept], X5[kept], Y5[kept])
+    ncls = np.empty(5 * m, np.int8)
+    ncls[kept] = kcls
+    ncls[twin] = ncls[source]
+    ndist = None
+    if kdist is not None:
+        ndist = np.empty(5 * m)
+        ndist[kept] = kdist
+        ndist[twin] = ndist[source]
+    cls = np.concatenate([cells.cls[:4, rest], ncls.reshape(5, m)])
+    dist = None if ndist is None else np.concatenate([cells.dist[:4, rest], ndist.reshape(5, m)])
+    GG = np.concatenate([G, Am[None], Bm[None]])
+    TT = np.concatenate([T, Xm[None], Ym[None]])
+    kid_cls = np.full((5, 4 * m), -1, np.int8)
+    kid_dist = None if dist is None else np.full((5, 4 * m), np.inf)
+    xs, ys = (T[0], Xm, T[1]), (T[2], Ym, T[3])
+    F = [[corner_solid_angle(x, y) for y in ys] for x in xs]
+    w = np.empty(4 * m)
+    for q, (_, cor, (i, j)) in enumerate(_CHILDREN):
+        kid_cls[:4, q * m:(q + 1) * m] = cls[list(cor)]
+        if kid_dist is not None:
+            kid_dist[:4, q * m:(q + 1) * m] = dist[list(cor)]
+        w[q * m:(q + 1) * m] = F[i + 1][j + 1] - F[i][j + 1] - F[i + 1][j] + F[i][j]
+    kid_patch = np.tile(patch, 4)
+    src, quad = np.tile(np.arange(m), 4), np.repeat(np.arange(4, dtype=np.int8), m)
+    tans = lambda sel: tuple(TT[_KID_T[quad[sel], :4].T, src[sel]])  # noqa: E731 - the children's bounds, where clipped
+    w, full, extra = _clip_weights(sample.rg, sample.P, kid_patch, tans, w, np.tile(cells.full[rest], 4))
+    at = np.full(len(cells.w), -1, np.int64)
+    at[rest] = np.arange(m)
+    pc = at[cells.piece_cell]
+    keep = pc >= 0
+    pc, pxy = _split_pieces(pc[keep], cells.piece_xy[keep], Xm, Ym)
+    kids = _Cells(kid_patch, GG, TT, src, quad, kid_cls, kid_dist, w, full, extra, pc, pxy,
+                  nb=_kid_neighbours(cells, at, rest) if neighbours and cells.nb is not None else None)
     if not full.all():
         kids = kids.take(w > 0)
     return kids.sample_extra(sample).sample_probes(sample)
 
 
-def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings) -> SolidAngles:
+def _kid_neighbours(cells: _Cells, at: np.ndarray, rest: np.ndarray) -> np.ndarray:
+    """(4, 4 m) int: the neighbours of the children of cells ``rest`` (:data:`_KID_NB`)."""
+    m = len(rest)
+    r = np.arange(m)
+    outer = at[cells.nb[:, rest]]  # each parent's neighbours among the cells split (-1: none)
+    nb = np.empty((4, 4 * m), np.int64)
+    for q, sides in enumerate(_KID_NB):
+        for side, (across, k) in enumerate(sides):
+            nb[side, q * m:(q + 1) * m] = k * m + (outer[side] if across else r)
+            if across:
+                nb[side, q * m:(q + 1) * m][outer[side] < 0] = -1
+    return nb
+
+
+def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings,
+                 parallel: bool = True) -> SolidAngles:
     """Solid angle of sky, landscape and ground seen through the room's windows from each point.
 
     Parameters
     ----------
     points : (p, 3) float [m], local frame
+    parallel : trace on the engine's threads (False: in the calling thread, for a caller that runs
+        one call per thread); the results are the same
 
     Returns
     -------
@@ -491,7 +683,7 @@ def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, sett
     out["cells"] = np.zeros(p, dtype=int)
     P = patches(rg, points, np.radians(settings.angular_resolution_deg))
     with_dist = settings.distance_method == "solid_angle"
-    sample = Sampler(view_rays, rg, points, P, with_dist)
+    sample = Sampler(view_rays, rg, points, P, with_dist, parallel)
     dist_rows, dist_w, dist_p = [], [], []
     cells = _base_cells(sample, P) if len(P.pt) else None
     rel, abs_ = settings.solid_angle_rel_tolerance, settings.solid_angle_abs_tolerance_sr
@@ -502,35 +694,39 @@ def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, sett
         kinds = cells.kinds()
         mixed = ((kinds & (kinds - 1)) != 0) | cells.crossed()  # samples that disagree, or a frame edge's image
         mi = np.flatnonzero(mixed)
-        nvalid = np.maximum(cells.sample_counts(), 1)
+        count = cells.counter(mi)
+        nvalid = np.maximum(count(), 1)  # of the mixed cells
         # share of each layer: 1 or 0 in a pure cell, the share of its samples in a mixed one
         share = {}
         for key, code in LAYER_CODES:
             s = (kinds == (1 << code)).astype(float)
-            s[mi] = cells.sample_counts(code)[mi] / nvalid[mi]
+            s[mi] = count(code) / nvalid
             share[key] = s
         # Error control: a point stops refining once every layer's estimated error (half the
         # solid angle of its mixed cells) is within max(rel * layer solid angle, abs).
+        # (At the last level every cell is final.)
+        last = level == settings.refine_levels
         done = np.ones(p, dtype=bool)
-        half_mixed = 0.5 * w * mixed
-        for key, code in LAYER_CODES:
-            est = out["err_" + key] + np.bincount(pi, half_mixed * ((kinds >> code) & 1), p)
+        pm, half_m, kinds_m = pi[mi], 0.5 * w[mi], kinds[mi]  # the mixed cells (the others add 0 to an error)
+        for key, code in ([] if last else LAYER_CODES):
+            est = out["err_" + key] + np.bincount(pm, half_m * ((kinds_m >> code) & 1), p)
             value = out[key] + np.bincount(pi, w * share[key], p)
             done &= est <= np.maximum(rel * value, abs_)
-        last = level == settings.refine_levels
         final = slice(None) if last else np.flatnonzero(~mixed | done[pi])
+        fm = slice(None) if last else np.flatnonzero(done[pm])  # the final ones among the mixed
         fp, fw = pi[final], w[final]
         out["glazing"] += np.bincount(fp, fw, p)
         out["cells"] += np.bincount(fp, minlength=p)
         for key, code in LAYER_CODES:
             out[key] += np.bincount(fp, fw * share[key][final], p)
-            out["err_" + key] += np.bincount(fp, half_mixed[final] * ((kinds[final] >> code) & 1), p)
+            out["err_" + key] += np.bincount(pm[fm], half_m[fm] * ((kinds_m[fm] >> code) & 1), p)
         if with_dist:  # each valid sample of a final cell carries an equal share of its weight
-            c = cls[final]
+            nv_all = np.maximum(cells.valid_counts(), 1)
+            c = cls[:, final].T  # (cells, samples), in the cells' order
             ok = (c >= 0) & (c != BLOCKED)
-            sw = (fw / nvalid[final])[:, None] * ok
+            sw = (fw / nv_all[final])[:, None] * ok
             r, col = np.nonzero(sw > 0)
-            dist_rows.append(cells.dist[final][r, col])
+            dist_rows.append(cells.dist[:, final].T[r, col])
             dist_w.append(sw[r, col])
             dist_p.append(fp[r])
             is_final = np.zeros(len(w), dtype=bool)
@@ -539,14 +735,15 @@ def solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, sett
                 q = np.flatnonzero(is_final[cells.probe_cell] & (cells.probe_cls >= 0) & (cells.probe_cls != BLOCKED))
                 qc = cells.probe_cell[q]
                 dist_rows.append(cells.probe_dist[q])
-                dist_w.append(w[qc] / nvalid[qc])
+                dist_w.append(w[qc] / nv_all[qc])
                 dist_p.append(pi[qc])
         if not last:
             rest = np.ones(len(w), dtype=bool)
             rest[final] = False
             if not rest.any():
                 break
-            cells = _split(sample, cells.take(rest))
+            cells = _split(sample, cells, np.flatnonzero(rest), neighbours=level + 1 < settings.refine_levels)
+    view_rays.engine.count_rays(sample.rays)
     dist = gap = None
     if with_dist:
         dist, gap = ragged_statistic(np.concatenate(dist_p) if dist_p else np.zeros(0, int),
