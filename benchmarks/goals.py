@@ -35,6 +35,17 @@ ROOT = Path(__file__).resolve().parent.parent
 SEED = ROOT / "sample_projects" / "seed-office" / "project.yaml"
 PAPER = ROOT / "sample_projects" / "seed-office" / "project-paper-grid.yaml"
 REAL = ROOT.parent / "shared" / "data" / "real-models"
+#: More folders of real exports (``os.pathsep``-separated), searched after :data:`REAL`: the stand-ins
+#: below come from public repositories (``Jesse.1.ifc``: opensourceBIM/TestFiles, TestData/data;
+#: the Aalseth Lane AC24 IFC: CyrilWaechter/IfcRelSpaceBoundary_TestFiles, unzipped;
+#: ``london-office.xml``: ladybug-tools/spider, gbxml-sample-files) and need not be in ../shared.
+CORPUS_ENV = "EN17037_CORPUS"
+
+
+def _real(name: str) -> Path | None:
+    """The real export ``name`` in :data:`REAL` or a folder of :data:`CORPUS_ENV`, or None."""
+    dirs = [REAL, *(Path(d) for d in os.environ.get(CORPUS_ENV, "").split(os.pathsep) if d)]
+    return next((d / name for d in dirs if (d / name).is_file()), None)
 #: Runs of each measurement (median kept): the seed office, the others.
 REPEATS = {"seed": 5, "other": 1}
 #: Rooms of the block measured against one room.
@@ -111,9 +122,11 @@ def real_projects(directory: Path, quick: bool) -> list[tuple[str, Path]]:
                       [{"gbxml_spaces": "*"}]))
     out = []
     for label, name, location, rooms in specs:
-        if not (REAL / name).is_file():
+        found = _real(name)
+        if found is None:
+            print(f"goals: {name} is not at hand (../shared/data/real-models or ${CORPUS_ENV}): left out", file=sys.stderr)
             continue
-        doc = dict(base, name=name, model={"files": [{"path": str(REAL / name)}]}, location=location, rooms=rooms)
+        doc = dict(base, name=name, model={"files": [{"path": str(found)}]}, location=location, rooms=rooms)
         path = directory / f"{Path(name).stem}.yaml"
         path.write_text(yaml.safe_dump(doc, sort_keys=False))
         out.append((label, path))
