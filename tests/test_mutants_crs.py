@@ -174,3 +174,77 @@ def test_axis_order_by_the_area_of_use(srs, first, swap, note):
     assert p.swap is swap
     said = [n for n in r.notes if "written" in n]
     assert (said == []) if note is None else (len(said) == 1 and note in said[0])
+
+
+def test_messages_in_full():
+    import sys
+
+    r = CrsResolver(Path("m.gml"), None, None)
+    with pytest.raises(InputError) as e:
+        r.placement("local", None)
+    assert str(e.value) == ("m.gml: unknown CRS srsName 'local'; set the file's 'crs' key in the project (e.g. crs: EPSG:25832) "
+                            "to say which CRS its coordinates are in")
+    with pytest.raises(InputError) as e:
+        CrsResolver(Path("m.gml"), None, "EPSG:999999").placement("EPSG:25833", BERLIN)
+    assert str(e.value) == ("m.gml: srsName 'EPSG:999999' names a CRS that PROJ does not know; set the file's 'crs' key in "
+                            "the project (e.g. crs: EPSG:25832) to say which it is")
+    with pytest.raises(InputError) as e:  # a vertical CRS PROJ does not know: the srsName as written
+        r.placement("urn:ogc:def:crs,crs:EPSG::25832,crs:EPSG::999999", None)
+    assert "srsName 'urn:ogc:def:crs,crs:EPSG::25832,crs:EPSG::999999' names a CRS" in str(e.value)
+    # degrees with no target: the UTM zone of the file's first vertex, in the order the file writes it
+    with pytest.raises(InputError, match=r"\(e.g. crs: EPSG:32734, WGS 84 / UTM zone 34S, if they are in it\)"):
+        CrsResolver(Path("m.gml"), None, None).placement("urn:ogc:def:crs:EPSG::4326", np.array([-33.9, 18.4]))
+    with pytest.raises(InputError, match=r"\(e.g. crs: EPSG:25832\) so the city model"):  # no UTM zone at 89.5 deg N
+        CrsResolver(Path("m.gml"), None, None).placement("EPSG:4326", np.array([10.0, 89.5]))
+    # without pyproj: one line naming the file and what to install
+    saved = {k: sys.modules.pop(k) for k in [k for k in sys.modules if k == "pyproj" or k.startswith("pyproj.")]}
+    sys.modules["pyproj"] = None  # type: ignore[assignment]
+    try:
+        with pytest.raises(InputError) as e:
+            CrsResolver(Path("d/m.gml"), None, None).placement("EPSG:25833", None)
+        assert str(e.value) == "d/m.gml: reading CityGML needs pyproj (coordinate reference systems): pip install 'en17037cli[citygml]'"
+    finally:
+        del sys.modules["pyproj"]
+        sys.modules.update(saved)
+
+
+def test_resolver_caches_none_and_keeps_heights_in_the_reprojection_note():
+    r = CrsResolver(Path("m.gml"), None, "EPSG:25832")
+    assert r.placement(None, None) is None and r.placement(None, None) is None and len(r.notes) == 1
+    r = CrsResolver(Path("m.gml"), None, "EPSG:32618")
+    r.placement("EPSG:2263+6360", np.array([987000.0, 195000.0]))
+    assert r.notes == ["m.gml: coordinates in EPSG:2263 (NAD83 / New York Long Island (ftUS)) projected to EPSG:32618 "
+                       "(WGS 84 / UTM zone 18N) with PROJ; heights in US survey foot (the CRS's vertical unit) converted to metres"]
+    # a compound CRS whose horizontal part is the target: nothing to project
+    r = CrsResolver(Path("m.gml"), None, "EPSG:2263")
+    p = r.placement("EPSG:2263+6360", np.array([987000.0, 195000.0]))
+    assert p.transformer is None and r.reprojected == set()
+
+
+@pytest.mark.parametrize("lat, lon, swap", [
+    (35.0, 121.9, True), (35.0, 121.0, False), (35.0, 158.2, True), (35.0, 159.0, False), (16.5, 140.0, True),
+    (15.5, 140.0, False), (46.5, 140.0, True), (47.5, 140.0, False), (80.0, 140.0, False)])
+def test_degrees_inside_the_area_of_use_within_a_degree(lat, lon, swap):
+    # JGD2011, EPSG:6668 (latitude first), area 122.38-157.65 E, 17.09-46.05 N: a first vertex (lat, lon) within a
+    # degree of it is read latitude first; outside, the short form's fallback is (longitude, latitude)
+    r = CrsResolver(Path("m.gml"), None, "EPSG:6677")
+    assert r.placement("EPSG:6668", np.array([lat, lon])).swap is swap
+
+
+def test_projected_area_padded_by_a_tenth():
+    import pyproj
+
+    c = pyproj.CRS.from_user_input("EPSG:25833")
+    w, s, e, n = c.area_of_use.bounds
+    x0, y0, x1, y1 = pyproj.Transformer.from_crs(c.geodetic_crs, c, always_xy=True).transform_bounds(w, s, e, n)
+    pad = 0.1 * max(x1 - x0, y1 - y0)
+    x = x1 + 0.5 * pad  # beyond the area's easting, within its pad: written northing first, read so
+    r = CrsResolver(Path("m.gml"), None, None)
+    assert r.placement("EPSG:25833", np.array([0.5 * (y0 + y1), x])).swap is True
+    assert r.notes == ["m.gml: coordinates in EPSG:25833 are written (north, east) / (lat, lon); read so"]
+    r = CrsResolver(Path("m.gml"), None, None)
+    assert r.placement("epsg:31468", np.array([4468000.0, 5330000.0])).swap is False
+    assert r.notes == ["m.gml: coordinates in EPSG:31468 are written (east, north) / (lon, lat), not in the CRS's own axis "
+                       "order; read so"]
+    r = CrsResolver(Path("m.gml"), None, "EPSG:25833")
+    assert r.placement("epsg:4326", np.array([13.4, 52.5])).swap is False  # the short form, any case: longitude first

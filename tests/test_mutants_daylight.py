@@ -62,6 +62,8 @@ def test_patch_directions_are_the_centres():
     assert d[0].tolist() == [0.0, 0.0, -1.0] and d[-1].tolist() == [0.0, 0.0, 1.0]
     assert d[1] == pytest.approx(_dir(6.0, 0.0), abs=1e-12) and d[2] == pytest.approx(_dir(6.0, 12.0), abs=1e-12)
     assert d[31] == pytest.approx(_dir(18.0, 0.0), abs=1e-12) and d[140] == pytest.approx(_dir(78.0, 60.0), abs=1e-12)
+    # a unit vector a rounding over 1 in z is the zenith's, one under -1 the ground's
+    assert patches.patch_bin([[0.0, 0.0, 1.0000000000000002], [0.0, 0.0, -1.0000000000000002]], 1).tolist() == [144, -1]
     for mf in (1, 2):  # each centre lies in its own patch
         assert patches.patch_bin(patches.patch_directions(mf)[1:], mf).tolist() == list(range(144 * mf * mf + 1))
 

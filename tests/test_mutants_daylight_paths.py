@@ -443,10 +443,14 @@ def test_equal_weights_by_hand():
     o, d = np.arange(12.0).reshape(4, 3), -np.arange(12.0).reshape(4, 3)
     w = np.array([0.5, 1.0, 2.5, 0.2])  # W0 = 1.05: w / W0 = 0.48, 0.95, 2.38, 0.19
     oo, dd, w0, pt = climate._equal_weights(o, d, w, np.array([1, 0, 1, 0]),
-                                                 SimpleNamespace(random=lambda n: np.array([0.5, 0.5, 0.5, 0.1])))
+                                                 SimpleNamespace(random=lambda n: np.array([0.5, 0.5, 0.5, 0.1])[:n]))
     # copies: 0 (0.48 < 0.5), 1 (0.95 > 0.5), 2 (0.38 < 0.5 left over), 1 (0.19 > 0.1); sorted by point, stably
     assert w0 == pytest.approx(1.05) and pt.tolist() == [0, 0, 1, 1]
     assert oo.tolist() == [o[1].tolist(), o[3].tolist(), o[2].tolist(), o[2].tolist()] and dd.tolist() == (-oo).tolist()
+    # equal weights: one copy each; sorted by point, each point's requests in their order (stable)
+    o = np.arange(600.0).reshape(200, 3)
+    oo, _, _, pt = climate._equal_weights(o, o, np.ones(200), np.arange(200) % 2, np.random.default_rng(0))
+    assert oo[:, 0].tolist() == [6.0 * k for k in range(100)] + [6.0 * k + 3 for k in range(100)]
     rng = np.random.default_rng(4)
     w = rng.random(20000) ** 3
     _, _, w0, pt = climate._equal_weights(np.zeros((20000, 3)), np.zeros((20000, 3)), w, np.zeros(20000, int), rng)
@@ -468,10 +472,14 @@ def _epw(year):
 
 
 @pytest.mark.parametrize("year", [2025, 2024])
-def test_sun_directions_at_the_middle_of_each_hour_against_pvlib(year):
+def test_sun_directions_at_the_middle_of_each_hour_against_pvlib(year, monkeypatch):
     import datetime as dt
+    import time
 
     from oracles import sun_position
+
+    monkeypatch.setenv("TZ", "America/New_York")  # the machine's own time zone does not enter
+    time.tzset()
 
     w = _epw(year)
     hours = np.array([12, 24 * 59 + 10, 24 * 200 + 14, len(w.hour) - 12])
@@ -482,38 +490,41 @@ def test_sun_directions_at_the_middle_of_each_hour_against_pvlib(year):
     el, az = sun_position(np.array(t), 52.0, 4.36, refraction=False)
     e, a = np.radians(el), np.radians(az + north)
     want = np.column_stack([np.sin(a) * np.cos(e), np.cos(a) * np.cos(e), np.sin(e)])
+    monkeypatch.delenv("TZ")
+    time.tzset()
     assert np.abs(got - want).max() < 1e-6  # the two SPAs agree to 1e-5 deg (docs/mutation.md)
 
 
 def test_direct_sun_by_hand(monkeypatch):
     from en17037cli.criteria.view.rays import SKY
 
-    class VR:  # rays with d_x > 0 leave through face 8 (window 1), d_x < -0.5 are blocked, others through face 2 (window 0)
-        def __init__(self, engine, scene):
-            assert engine == "engine"
+    class VR:  # rays with d_x > 0 leave through face 0 (window 1), d_x < -0.5 or from x > 1 and d_y > 0.8 are blocked,
+        def __init__(self, engine, scene):  # the others through face 2 (window 0)
+            assert engine == "engine" and scene is ctx.scene
 
         def through_windows(self, group, o, d):
-            assert group == "windows of room 0"
-            cls = np.where(d[:, 0] < -0.5, 0, SKY)
-            face = np.where(d[:, 0] > 0, 8, np.where(d[:, 0] < -0.5, -1, 2))
-            return cls, face, None, None, None
+            assert group == "windows of room 0" and o.shape == d.shape
+            blocked = (d[:, 0] < -0.5) | ((o[:, 0] > 1.0) & (d[:, 1] > 0.8))
+            return np.where(blocked, 0, SKY), np.where(blocked, -1, np.where(d[:, 0] > 0, 0, 2)), None, None, None
 
     monkeypatch.setattr(climate, "ViewRays", VR)
-    room = SimpleNamespace(index=0, windows=[SimpleNamespace(face_ids=[2, 3], normal=np.array([0.0, -1.0, 0.0])),
-                                             SimpleNamespace(face_ids=[8], normal=np.array([1.0, 0.0, 0.0]))])
+    room = SimpleNamespace(index=0, windows=[SimpleNamespace(face_ids=[1, 2, 3], normal=np.array([0.0, -1.0, 0.0])),
+                                             SimpleNamespace(face_ids=[0], normal=np.array([1.0, 0.0, 0.0]))])
     ctx = SimpleNamespace(engine="engine", scene=SimpleNamespace(triangles=np.zeros((10, 3))))
-    h = 600  # more hours than one block of 512
-    az = np.linspace(0, 2 * np.pi, h)
-    el = np.where(np.arange(h) % 7 == 3, -0.1, 0.4)
+    h = 1300  # more hours than two blocks of 512; the hours under the horizon or without sun among the first
+    az = np.linspace(0, 40 * np.pi, h)
+    el = np.where((np.arange(h) % 7 == 3) & (np.arange(h) < 100), -0.1, 0.4)
     sun_dir = np.column_stack([np.sin(az) * np.cos(el), np.cos(az) * np.cos(el), np.sin(el)])
-    sun_lx = np.where(np.arange(h) % 11 == 5, 0.0, 50000.0 + np.arange(h))
-    tv = np.array([0.7, 1.0])
-    pts = np.zeros((2, 3))
+    sun_lx = np.where((np.arange(h) % 11 == 5) & (np.arange(h) < 100), 0.0, 50000.0 + np.arange(h))
+    sun_lx[200] = 0.5
+    tv = np.array([0.7, 0.9])
+    pts = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
     out = climate.direct_sun(ctx, room, pts, tv, sun_lx, sun_dir)
     x = sun_dir[:, 0]
-    tau = np.where(x > 0, 1.0, glass_transmittance(np.abs(sun_dir[:, 1]), 0.7))
+    tau = np.where(x > 0, glass_transmittance(np.abs(x), 0.9), glass_transmittance(np.abs(sun_dir[:, 1]), 0.7))
     want = np.where((x >= -0.5) & (sun_dir[:, 2] > 0), sun_lx * sun_dir[:, 2] * tau, 0.0)
-    assert out.shape == (2, h) and np.allclose(out, want[None], rtol=1e-12, atol=0)
+    assert out.shape == (2, h) and np.allclose(out[0], want, rtol=1e-12, atol=0)
+    assert np.allclose(out[1], np.where(sun_dir[:, 1] > 0.8, 0.0, want), rtol=1e-12, atol=0) and out[0, 200] > 0
     assert climate.direct_sun(ctx, room, np.zeros((0, 3)), tv, sun_lx, sun_dir).shape == (0, h)
     assert not climate.direct_sun(ctx, room, pts, tv, np.zeros(h), sun_dir).any()
 
@@ -524,14 +535,20 @@ def test_path_coefficients_bin_the_sky_samples_and_the_requests(monkeypatch):
     mf = 1
     up = patches.patch_directions(mf)
 
-    def trace_paths(S, o, d, window_rays, seed):
+    seeds = []
+
+    def trace_paths(S_, o, d, window_rays, seed):
+        assert S_ is S and window_rays == 3 and o.tolist() == [[1.0, 2.0, 3.0]] * 4 + [[4.0, 5.0, 6.0]] * 4
+        assert d.shape == (8, 3) and np.allclose(np.linalg.norm(d, axis=1), 1.0) and np.all(d[:, 2] > 0)
+        seeds.append((seed, d.copy()))
         req = transport.Requests()
         req.add_sky(up[[1, 1, 50, 145]], np.array([0.5, 0.25, 1.0, 2.0]), np.array([0, 1, 4, 7]))
-        req.add(o[:3], d[:3], np.full(3, 0.8), np.array([0, 5, 6]))
+        req.add(o[[0, 5, 6]], d[[0, 5, 6]], np.full(3, 0.8), np.array([0, 5, 6]))
         return None, req, None
 
     def record_sums(octree, o, d, point, n, mf_, args, sink, processes):
         assert octree == "oct" and mf_ == mf and args == ["-ab", "1"] and processes == 2 and n == 2
+        assert o.tolist() == [[1.0, 2.0, 3.0]] + [[4.0, 5.0, 6.0]] * 2 and np.all(d[:, 2] > 0)
         assert point.tolist() == [0, 1, 1] and sink.tolist() == [9.0, 9.0, 9.0]
         out = np.zeros((n, patches.reinhart_bins(mf)))
         out[0, 3], out[1, 0] = 1.0, 2.0
@@ -539,13 +556,19 @@ def test_path_coefficients_bin_the_sky_samples_and_the_requests(monkeypatch):
 
     monkeypatch.setattr(transport, "trace_paths", trace_paths)
     monkeypatch.setattr(climate, "_record_sums", record_sums)
-    S = SimpleNamespace(window_rays=1, engine=SimpleNamespace(threads=2))
-    dc = climate.path_coefficients(S, "oct", np.zeros((2, 3)), mf, 4, 0, ["-ab", "1"], np.eye(3), np.full(3, 9.0))
+    S = SimpleNamespace(window_rays=3, engine=SimpleNamespace(threads=2))
+    pts = np.array([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]])
+    dc = climate.path_coefficients(S, "oct", pts, mf, 4, 0, ["-ab", "1"], np.eye(3), np.full(3, 9.0))
     want = np.zeros((2, 146))
     want[0, 1] = 0.75 / 4  # paths 0 and 1 of point 0 in the first patch (row 1; patch_directions' row 0 is the ground)
     want[1, 50], want[1, 145] = 1.0 / 4, 2.0 / 4  # paths 4 and 7 of point 1: patch 49 and the zenith cap
     want[0, 3], want[1, 0] = 0.8 / 4, 1.6 / 4
     assert np.allclose(dc, want, rtol=0, atol=1e-15)
+    # the same inputs, the same paths; another replicate, other ones
+    climate.path_coefficients(S, "oct", pts, mf, 4, 0, ["-ab", "1"], np.eye(3), np.full(3, 9.0))
+    climate.path_coefficients(S, "oct", pts, mf, 4, 1, ["-ab", "1"], np.eye(3), np.full(3, 9.0))
+    (s0, d0), (s1, d1), (s2, d2) = seeds
+    assert s0 is not None and s0 == s1 and np.array_equal(d0, d1) and s2 != s0 and not np.allclose(d2, d0)
     assert climate.path_coefficients(S, "oct", np.zeros((0, 3)), mf, 4, 0, [], np.eye(3), np.zeros(3)).shape == (0, 146)
 
 
@@ -619,3 +642,16 @@ def test_sky_component_bins_of_a_pane_that_is_not_a_rectangle():
     # tolerance, 0.5 % (2.2e-3 measured)
     assert sc.patches[0, 0] == pytest.approx(want, rel=5e-3)
     engine.close()
+
+
+def test_path_coefficients_of_one_ray_per_point(monkeypatch):
+    def trace_paths(S, o, d, window_rays, seed):
+        assert o.tolist() == [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]  # 1 x 1 strata: one path per point
+        req = transport.Requests()
+        req.add_sky(patches.patch_directions(1)[[3]], np.array([0.5]), np.array([1]))
+        return None, req, None
+
+    monkeypatch.setattr(transport, "trace_paths", trace_paths)
+    S = SimpleNamespace(window_rays=1, engine=SimpleNamespace(threads=1))
+    dc = climate.path_coefficients(S, "oct", np.array([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]), 1, 1, 0, [], np.eye(3), np.zeros(3))
+    assert dc[1, 3] == 0.5 and dc.sum() == 0.5

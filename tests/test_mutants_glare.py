@@ -171,6 +171,22 @@ def test_usage_hours_west_of_greenwich():
     assert u.rows.tolist() == [8] and u.unix_mid.tolist() == [_unix(2026, 1, 5, 13) + 1800]
 
 
+def test_usage_hours_on_the_days_the_clocks_change():
+    # Amsterdam 2026: summer time from Sunday 29 March 02:00 to Sunday 25 October 03:00; a day's clock offset
+    # is the one at its noon. Winter days: rows 9..18 (08:00-18:00 on the clock); summer days: rows 8..17.
+    days = [(3, 27), (3, 28), (3, 29), (10, 24), (10, 25), (10, 26)]
+    m = np.concatenate([_day(*x)[0] for x in days])
+    d = np.concatenate([_day(*x)[1] for x in days])
+    h = np.concatenate([_day(*x)[2] for x in days])
+    u = usage.usage_hours(m, d, h, 1.0, "Europe/Amsterdam", 2026, 8.0, 18.0, tuple(range(7)))
+    first = [int(h[r]) for r in u.rows[::10]]
+    assert len(u) == 60 and first == [9, 9, 8, 8, 9, 9]
+    # whole days: every row is a usage hour, early mornings included
+    u = usage.usage_hours(m, d, h, 1.0, "Europe/Amsterdam", 2026, 0.0, 24.0, tuple(range(7)))
+    assert len(u) == 6 * 24
+    assert usage.count_usage_hours(2026, 0.0, 24.0, (0,)) == 52 * 24
+
+
 def test_count_usage_hours_on_the_calendar():
     # 2026 starts on a Thursday: 52 weeks and a Thursday; 2024 (leap) on a Monday: 52 weeks, a Monday and a Tuesday
     assert usage.count_usage_hours(2026, 8.0, 18.0, (5, 6)) == 104 * 10
@@ -230,6 +246,8 @@ def test_auto_eye_the_floor_does_not_hold_moves_inside():
     shallow = _room([_window("S", (2.0, 0.0, 1.5), (0.0, -1.0, 0.0))], floor=((0, 0), (4, 0), (4, 0.5), (0, 0.5)))
     v = positions.auto_views(scene, shallow, 1.2, 1.0, ("towards",))
     assert len(v) == 1 and np.allclose(v[0].eye, [2.0, 0.4, 1.2])  # 0.1 m inside the floor's far edge
+    v = positions.auto_views(scene, shallow, 1.2, 0.05, ("towards",))
+    assert np.allclose(v[0].eye, [2.0, 0.05, 1.2])  # inside the floor, if within 0.1 m of its edge: where it is
     roof = _room([_window("R", (2.0, 2.0, 3.0), (0.0, 0.0, 1.0))])  # a roof light looks along +y
     v = positions.auto_views(scene, roof, 1.2, 1.0, ("towards",))
     assert np.allclose(v[0].eye, [2.0, 1.0, 1.2]) and np.allclose(v[0].direction, [0, 1, 0])
@@ -245,10 +263,13 @@ def test_listed_views_by_room():
     a, b = out["A"], out["B"]
     assert [v.position for v in a] == [0, 1] and [v.label for v in a] == ["listed position 1", "listed position 3"]
     assert a[0].bearing_deg == 10.0 and np.allclose(a[0].direction, [math.sin(math.radians(20)), math.cos(math.radians(20)), 0])
+    assert a[0].eye.tolist() == [1.0, 1.0, 0.0] and a[1].eye.tolist() == [2.0, 2.0, 3.0] and b[0].eye.tolist() == [6.0, 1.0, 9.9]
     assert b[0].label == "listed position 2" and b[0].bearing_deg == 90.0
-    for p in ([1.0, 1.0, -0.01], [1.0, 1.0, 3.01], [6.0, 1.0, 10.01], [20.0, 1.0, 1.0]):
-        with pytest.raises(InputError, match=r"glare.positions\[0\]: \(.*\) stands over no room's floor"):
-            positions.listed_views(scene, np.array([p + [0.0]]))
+    for p in ([1.5, 2.5, -0.01], [1.5, 2.5, 3.01], [6.0, 1.0, 10.01], [20.0, 1.0, 1.0], [4.5, 1.0, 1.0]):
+        with pytest.raises(InputError) as e:
+            positions.listed_views(scene, np.array([[1.0, 1.0, 1.0, 0.0], p + [0.0]]))
+        assert str(e.value) == (f"glare.positions[1]: ({p[0]:g}, {p[1]:g}, {p[2]:g}) stands over no room's floor between floor "
+                                "and ceiling; give a point inside a room (model frame, metres)")
 
 
 def test_room_views_listed_auto_and_none():
@@ -257,13 +278,15 @@ def test_room_views_listed_auto_and_none():
     auto = SimpleNamespace(positions=None, eye_height_m=1.0, facade_distance_m=0.5, directions=("towards",))
     v = positions.room_views(scene, room, auto, {})
     assert len(v) == 1 and np.allclose(v[0].eye, [2.0, 0.5, 1.0])
-    with pytest.raises(NotAssessable, match="no window"):
+    with pytest.raises(NotAssessable, match="^the room has no window$"):
         positions.room_views(scene, _room([]), auto, {})
     listed = SimpleNamespace(positions=np.array([[1.0, 1.0, 1.2, 0.0]]))
     cache: dict = {}
     assert positions.room_views(scene, room, listed, cache)[0].label == "listed position 1" and "glare_listed" in cache
-    with pytest.raises(NotAssessable, match="no listed glare position"):
+    with pytest.raises(NotAssessable, match=r"^no listed glare position stands in the room \(glare.positions\)$"):
         positions.room_views(scene, _room([], name="other"), listed, cache)
+    # the listed views are worked out once per run: what the cache holds is used
+    assert positions.room_views(scene, room, listed, {"glare_listed": {"R": ["mine"]}}) == ["mine"]
 
 
 # --- assess.py ------------------------------------------------------------------------------------
@@ -275,6 +298,7 @@ def test_mean_and_error_by_hand():
     assert assess.mean_and_error(v) == pytest.approx((5.5, 2.0 * np.std(v, ddof=1) / math.sqrt(12)), rel=1e-12)
     assert assess.deployed(np.array([0.3, 0.45, 0.5]), 0.45, "glare").tolist() == [False, False, True]
     assert assess.deployed(np.array([0.3, 0.45]), 0.45, "always").tolist() == [True, True]
+    assert assess.deployed(np.array([0.3, 0.45]), 0.45, "always").dtype == bool  # hours down: a mask
 
 
 class _Model:
@@ -292,7 +316,7 @@ class _Model:
 def test_series_deploys_the_device_where_the_unshaded_dgp_exceeds_the_limit():
     m = _Model([0.2, 0.3, 0.5], [0.0, 0.2, 0.2])
     out, raw, down = assess.series(m, None, 0.45)
-    assert out.tolist() == raw.tolist() == [[0.2, 0.5, 0.7]] and down.tolist() == [False, False, False]
+    assert out.tolist() == raw.tolist() == [[0.2, 0.5, 0.7]] and down.tolist() == [False, False, False] and down.dtype == bool
     out, raw, down = assess.series(m, SimpleNamespace(control="glare", transmittance=0.5, sun_transmittance=0.1), 0.45)
     assert down.tolist() == [False, True, True] and raw.tolist() == [[0.2, 0.5, 0.7]]
     assert out[0].tolist() == pytest.approx([0.2, 0.15 + 0.02, 0.25 + 0.02], abs=1e-12)
@@ -311,6 +335,7 @@ def test_needed_transmittance_by_hand():
     assert assess.needed_transmittance([m], 0.45) == 0.5  # 0.9 t <= 0.45
     assert assess.needed_transmittance([m], 0.45, sun_hidden=True) == 0.7  # 0.5 t <= 0.45
     assert assess.needed_transmittance([m, _Model(base * 1.5, sun)], 0.45, sun_hidden=True) == 0.5  # 0.75 t <= 0.45
+    assert assess.needed_transmittance([_Model(base * 1.5, sun), m], 0.45, sun_hidden=True) == 0.5
     assert assess.needed_transmittance([m], 0.3) == 0.25  # 0.9 t <= 0.3; the other hours at 0.3 are within
     assert assess.needed_transmittance([m], 0.004) is None  # 0.9 x 0.005 > 0.004
     # at most 5 hours over the limit: no device needed beyond the first step
