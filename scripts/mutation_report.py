@@ -6,7 +6,11 @@ where killed includes timeouts (the mutant hangs the tests: detected) and every 
 selected test reaches counts as not killed. Prints the survivors that are not listed as
 equivalent, with their diffs; exits 1 if there are any.
 
-Usage: python scripts/mutation_report.py [--no-diff]
+With ``--modules`` it prints instead a Markdown table per module (mutants, killed, equivalent,
+no test, survived, score), the table docs/mutation.md keeps; ``--only PREFIX`` keeps the modules whose
+dotted name starts with PREFIX (a group of the Makefile's MUTATE, e.g. ``en17037cli.criteria.daylight``).
+
+Usage: python scripts/mutation_report.py [--no-diff] [--modules] [--only PREFIX ...]
 """
 from __future__ import annotations
 
@@ -32,6 +36,46 @@ def equivalent_names(doc: Path) -> dict[str, str]:
     return out
 
 
+def module_of(key: str) -> str:
+    """The dotted module of a mutant name (``pkg.mod.x_fn__mutmut_3``, ``pkg.mod.xǁClassǁmethod__mutmut_3``)."""
+    return key.rsplit("__mutmut_", 1)[0].rsplit(".", 1)[0]
+
+
+def module_table(status: dict[str, str], equivalent: dict[str, str]) -> list[str]:
+    """Markdown rows: per module, mutants, killed (timeouts included), equivalent listed, no test,
+    survived (not listed), not checked, and the score killed / (mutants - equivalent - not checked)."""
+    rows = ["| module | mutants | killed | equivalent | no test | survived | not checked | score |",
+            "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    by_module: dict[str, Counter] = {}
+    for key, s in status.items():
+        c = by_module.setdefault(module_of(key), Counter())
+        c["mutants"] += 1
+        if key in equivalent:
+            c["equivalent"] += 1
+        elif s in ("killed", "timeout"):
+            c["killed"] += 1
+        elif s == "no tests":
+            c["no test"] += 1
+        elif s == "not checked":
+            c["not checked"] += 1
+        else:
+            c["survived"] += 1
+    total: Counter = Counter()
+    for mod in sorted(by_module):
+        c = by_module[mod]
+        total.update(c)
+        rows.append(_row(f"`{mod}`", c))
+    rows.append(_row("**all**", total))
+    return rows
+
+
+def _row(name: str, c: Counter) -> str:
+    den = c["mutants"] - c["equivalent"] - c["not checked"]
+    score = f"{100.0 * c['killed'] / den:.1f} %" if den else "-"
+    return (f"| {name} | {c['mutants']} | {c['killed']} | {c['equivalent']} | {c['no test']} | {c['survived']} | "
+            f"{c['not checked']} | {score} |")
+
+
 def main() -> int:
     metas = sorted((ROOT / "mutants").rglob("*.py.meta"))
     if not metas:
@@ -42,6 +86,12 @@ def main() -> int:
         for key, code in json.loads(meta.read_text())["exit_code_by_key"].items():
             status[key] = STATUS.get(code, "suspicious")
     equivalent = equivalent_names(ROOT / "docs" / "mutation.md")
+    if "--only" in sys.argv:
+        prefixes = tuple(a for a in sys.argv[sys.argv.index("--only") + 1:] if not a.startswith("--"))
+        status = {k: s for k, s in status.items() if module_of(k).startswith(prefixes)}
+    if "--modules" in sys.argv:
+        print("\n".join(module_table(status, equivalent)))
+        return 0
     counts = Counter(status.values())
     listed = {k for k in equivalent if k in status}
     killed = sum(1 for k, s in status.items() if s in ("killed", "timeout") and k not in listed)

@@ -45,7 +45,7 @@ __all__ = ["climate_room", "patch_directions", "patch_sky_text", "reinhart_bins"
 SUN_DIAMETER_DEG = 0.533
 
 
-def patch_sky_text(sink=(0.0, 0.0, -1.0e5)) -> str:
+def patch_sky_text(sink=(0.0, 0.0, -1.0e5)) -> str:  # pragma: no mutate block
     """Sky and ground hemispheres of unit radiance: ``skyglow``, which ``rcontrib`` bins by direction
     into Reinhart patches (``reinhartb.cal``), and ``groundglow``, one bin (gendaymtx's row 0); and a
     black sphere at ``sink`` (:func:`sink_point`), where the rays that fill a record end."""
@@ -56,7 +56,7 @@ def patch_sky_text(sink=(0.0, 0.0, -1.0e5)) -> str:
             f"{SINK_RADIUS_M}\n")
 
 
-def sky_matrix(wea: str, mf: int, north_deg: float, *extra: str) -> np.ndarray:
+def sky_matrix(wea: str, mf: int, north_deg: float, *extra: str) -> np.ndarray:  # pragma: no mutate block
     """``gendaymtx`` of a .wea text: (bins, hours) radiance per patch [W/(sr m²), visible], the sky
     turned so that its north lies ``north_deg`` clockwise from the model's +y."""
     import tempfile
@@ -69,7 +69,7 @@ def sky_matrix(wea: str, mf: int, north_deg: float, *extra: str) -> np.ndarray:
     return m @ radiance.RGB_WEIGHTS
 
 
-def skies(criterion, ctx, settings: DaylightSettings) -> dict:
+def skies(criterion, ctx, settings: DaylightSettings) -> dict:  # pragma: no mutate block
     """The run's skies over the daylight hours, made once: ``sky`` (without the sun) and ``all``
     (with it) per patch, the sun's direct normal illuminance ``sun_lx`` [lx] and direction ``sun_dir``
     (model frame) per hour, and the ``hours``."""
@@ -176,7 +176,7 @@ def _equal_weights(o, d, w, point, rng):
     return o[idx], d[idx], w0, point[idx]
 
 
-def _record_sums(octree, o, d, point, n: int, mf: int, args: list[str], sink: np.ndarray, processes: int = 1) -> np.ndarray:
+def _record_sums(octree, o, d, point, n: int, mf: int, args: list[str], sink: np.ndarray, processes: int = 1) -> np.ndarray:  # pragma: no mutate block
     """(n, bins) per point, the sum over its rays of what ``rcontrib`` gives each patch (gendaymtx's
     order), in records of :data:`RECORD` rays (``-c``: a record is their mean), each point's last
     record filled with rays that start inside a black sphere at ``sink`` (:func:`sink_point`)."""
@@ -231,7 +231,7 @@ SINK_RADIUS_M = 0.5
 
 
 def climate_room(criterion, ctx, room, points: np.ndarray, settings: DaylightSettings, median: float, source: str,
-                 params: dict) -> DaylightResult:
+                 params: dict) -> DaylightResult:  # pragma: no mutate block
     """Method 2 for one room (see the module docstring): the direct parts once, the reflected part per
     replicate; per replicate the hourly illuminance and the shares of Table A.1; their means and 95 %
     intervals."""

