@@ -11,8 +11,6 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-import pytest
-
 import en17037cli
 
 PACKAGE = Path(en17037cli.__file__).parent
@@ -21,11 +19,6 @@ MAX_LINES = 450
 #: Modules that are tables of constants (coefficients, lookup tables) may be longer; by path from
 #: the package's folder, with why. None is needed today.
 TABLES_OF_CONSTANTS: dict[str, str] = {}
-
-#: Left for a later pass of issue 38 (after the speed branch on criteria/view/ lands): the solid
-#: angle's split (criteria/view/solid_angle.py). Anything else fails at once.
-PENDING_LONG = frozenset({"criteria/view/solid_angle.py"})
-PENDING = "issue 38's later pass: solid_angle.py split into its cells and refinement"
 
 
 def modules(root: Path = PACKAGE) -> dict[str, Path]:
@@ -132,6 +125,4 @@ def test_no_circle_in_the_import_graph():
 def test_no_module_over_450_lines():
     lengths = {p.relative_to(PACKAGE).as_posix(): len(p.read_text(encoding="utf-8").splitlines()) for p in modules().values()}
     long = {name: n for name, n in lengths.items() if n > MAX_LINES and name not in TABLES_OF_CONSTANTS}
-    assert set(long) <= PENDING_LONG, f"modules over {MAX_LINES} lines: { {k: v for k, v in long.items() if k not in PENDING_LONG} }"
-    if long:
-        pytest.xfail(f"{sorted(long)} ({', '.join(map(str, long.values()))} lines) is left for {PENDING}")
+    assert not long, f"modules over {MAX_LINES} lines: {long}"
