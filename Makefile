@@ -40,7 +40,8 @@ MUTATE ?= all
 MUTANTS_core := en17037cli.criteria.sunlight.solar_position.* en17037cli.criteria.sunlight.intervals.* \
   en17037cli.criteria.sunlight.visibility.* en17037cli.criteria.sunlight.point_p.* en17037cli.geometry.solid_angle.* \
   en17037cli.geometry.planar.* en17037cli.criteria.view.sight_angle.* en17037cli.criteria.view.distance.* \
-  en17037cli.criteria.view.solid_angle.* en17037cli.standard.* en17037cli.bisection.*
+  en17037cli.criteria.view.solid_angle.* en17037cli.criteria.view.sampler.* \
+  en17037cli.criteria.view.cells.* en17037cli.criteria.view.edges.* en17037cli.criteria.view.refine.* en17037cli.standard.* en17037cli.bisection.*
 MUTANTS_view := en17037cli.criteria.view.plan.*
 MUTANTS_sun := en17037cli.criteria.sunlight.exact.* en17037cli.criteria.sunlight.culling.*
 MUTANTS_scene := en17037cli.scene.spaces.* en17037cli.scene.hosts.* en17037cli.io.ifc_glazing.* en17037cli.io.citygml.crs.*

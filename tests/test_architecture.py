@@ -11,8 +11,6 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-import pytest
-
 import en17037cli
 
 PACKAGE = Path(en17037cli.__file__).parent
@@ -21,15 +19,6 @@ MAX_LINES = 450
 #: Modules that are tables of constants (coefficients, lookup tables) may be longer; by path from
 #: the package's folder, with why. None is needed today.
 TABLES_OF_CONSTANTS: dict[str, str] = {}
-
-#: Left for a later pass of issue 38 (after the speed branch on criteria/view/ and scene/section.py
-#: lands): the room derivation's circle (scene/rooms.py, section.py, auto_rooms.py, furniture.py)
-#: and the solid angle's split (criteria/view/solid_angle.py). Anything else fails at once.
-PENDING_CIRCLE = frozenset({"en17037cli.scene.auto_rooms", "en17037cli.scene.furniture", "en17037cli.scene.rooms",
-                            "en17037cli.scene.section"})
-PENDING_LONG = frozenset({"criteria/view/solid_angle.py"})
-PENDING = ("issue 38's later pass (after the speed branch on criteria/view/ and scene/section.py lands): the room "
-           "derivation in one direction (plan, rooms, automatic rooms) and solid_angle.py split into its cells and refinement")
 
 
 def modules(root: Path = PACKAGE) -> dict[str, Path]:
@@ -129,16 +118,11 @@ def test_the_graph_counts_deferred_and_package_imports(tmp_path):
 
 
 def test_no_circle_in_the_import_graph():
-    found = circles(import_graph(modules()))
-    others = [sorted(c) for c in found if not c <= PENDING_CIRCLE]
-    assert not others, f"modules that import each other (directly or around a circle): {others}"
-    if found:
-        pytest.xfail(f"the scene's circle {sorted(PENDING_CIRCLE)} is left for {PENDING}")
+    found = [sorted(c) for c in circles(import_graph(modules()))]
+    assert not found, f"modules that import each other (directly or around a circle): {found}"
 
 
 def test_no_module_over_450_lines():
     lengths = {p.relative_to(PACKAGE).as_posix(): len(p.read_text(encoding="utf-8").splitlines()) for p in modules().values()}
     long = {name: n for name, n in lengths.items() if n > MAX_LINES and name not in TABLES_OF_CONSTANTS}
-    assert set(long) <= PENDING_LONG, f"modules over {MAX_LINES} lines: { {k: v for k, v in long.items() if k not in PENDING_LONG} }"
-    if long:
-        pytest.xfail(f"{sorted(long)} ({', '.join(map(str, long.values()))} lines) is left for {PENDING}")
+    assert not long, f"modules over {MAX_LINES} lines: {long}"

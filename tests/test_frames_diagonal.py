@@ -15,9 +15,9 @@ import tolerances as tol
 from conftest import Built
 from oracles import polygon_solid_angle_y0, rect_solid_angle_y0
 
+from en17037cli.criteria.view.edges import edge_pieces, split_pieces
 from en17037cli.criteria.view.frames import frame_edges, window_frame
 from en17037cli.criteria.view.gnomonic import Patches, grid_lines
-from en17037cli.criteria.view.solid_angle import _split_pieces, edge_pieces
 from en17037cli.samples import MULLION_GAP, BoxRoom, box_room_project
 from en17037cli.samples.box import box_room_polygons, write_obj
 
@@ -161,7 +161,7 @@ def test_edge_pieces_are_the_cells_each_segment_crosses():
         assert set((cbase[pt] + ia * nlb[pt] + ib).tolist()) <= found
     # one split: children's pieces inside the children, the same total length
     Am, Bm = 0.5 * (G[:, 0] + G[:, 1]), 0.5 * (G[:, 2] + G[:, 3])
-    kid, kxy = _split_pieces(cell, xy, np.tan(Am), np.tan(Bm))
+    kid, kxy = split_pieces(cell, xy, np.tan(Am), np.tan(Bm))
     m = len(G)
     kids_G = np.concatenate([np.column_stack([G[:, 0], Am, G[:, 2], Bm]), np.column_stack([Am, G[:, 1], G[:, 2], Bm]),
                              np.column_stack([G[:, 0], Am, Bm, G[:, 3]]), np.column_stack([Am, G[:, 1], Bm, G[:, 3]])])

@@ -13,8 +13,9 @@ import shapely
 from conftest import Built
 
 from en17037cli.criteria.view import assess as view_assess
-from en17037cli.criteria.view import solid_angle as sa
+from en17037cli.criteria.view import refine
 from en17037cli.criteria.view.frames import WindowFrame, room_geometry
+from en17037cli.criteria.view.sampler import Sampler
 from en17037cli.raytrace import RayEngine
 from en17037cli.samples import BoxRoom, box_room_project
 
@@ -68,17 +69,17 @@ def test_no_ray_of_a_split_is_traced_twice(mullion_room, monkeypatch):
     and the answers are those of tracing it twice (``_twins`` switched off)."""
     b = mullion_room
     repeats = []
-    original = sa.Sampler.trace
+    original = Sampler.trace
 
     def spy(self, patch, X, Y):
         key = np.unique(np.column_stack([patch, X, Y]), axis=0)
         repeats.append(len(patch) - len(key))
         return original(self, patch, X, Y)
 
-    monkeypatch.setattr(sa.Sampler, "trace", spy)
+    monkeypatch.setattr(Sampler, "trace", spy)
     once, rays_once = _solid(b, b.engine, 10**9, monkeypatch)
     assert max(repeats) == 0
-    monkeypatch.setattr(sa, "_twins", lambda *a: (np.zeros(0, np.int64), np.zeros(0, np.int64)))
+    monkeypatch.setattr(refine, "_twins", lambda *a: (np.zeros(0, np.int64), np.zeros(0, np.int64)))
     repeats.clear()
     twice, rays_twice = _solid(b, b.engine, 10**9, monkeypatch)
     assert max(repeats) > 0  # the plain way repeats rays ...
@@ -187,7 +188,7 @@ def test_sampler_called_with_angles_counts_its_rays(mullion_room):
     rg = room_geometry(b.scene, b.room, b.view_cfg.frame_depth_m)
     pts = b.scene.to_local(POINTS[:6])
     P = patches(rg, pts, np.radians(1.0))
-    s = sa.Sampler(ViewRays(b.engine, b.scene), rg, pts, P, True)
+    s = Sampler(ViewRays(b.engine, b.scene), rg, pts, P, True)
     rng = np.random.default_rng(3)
     patch = rng.integers(0, len(P), 500)
     A, B = rng.uniform(P.a0[patch], P.a1[patch]), rng.uniform(P.b0[patch], P.b1[patch])

@@ -75,9 +75,9 @@ def context_warnings(scene: Scene, files, where: str) -> list[str]:
 
 def lowest_floor(scene: Scene) -> tuple[float, str] | None:
     """(z [m, local], what it is) of the model's lowest floor: its lowest storey
-    (:func:`~en17037cli.scene.auto_rooms.storey_levels`) or room floor, whichever is lower; None
+    (:func:`~en17037cli.scene.levels.storey_levels`) or room floor, whichever is lower; None
     when the model has neither."""
-    from en17037cli.scene.auto_rooms import storey_levels
+    from en17037cli.scene.levels import storey_levels
 
     levels = storey_levels(scene)
     found = [(levels[0], "its lowest storey")] if levels else []

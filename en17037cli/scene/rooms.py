@@ -6,6 +6,11 @@ the room's floor and ceiling, and the room lies on its inner side (:func:`bounds
 project's ``windows:`` globs only narrow that set; a glob that picks a window which does not bound
 the room is an input error naming both. This keeps a room from seeing the sun through another
 room's window behind a partition.
+
+A room given by name and level gets its floor from the plan (:mod:`~en17037cli.scene.section`,
+:func:`room_cell` picks its region); its ceiling and floor cover come from the levels of the
+horizontal faces (:mod:`~en17037cli.scene.levels`). Automatic rooms
+(:mod:`~en17037cli.scene.auto_rooms`, above this module) are one :func:`make_room` per region.
 """
 from __future__ import annotations
 
@@ -17,13 +22,21 @@ import numpy as np
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangle_normals, window_axes
 from en17037cli.project.settings import RoomSpec
+from en17037cli.scene.furniture import furnished_floor
+from en17037cli.scene.levels import FLOOR_COVER, derive_ceiling, floor_cover, floor_faces
 from en17037cli.scene.model import INTERIOR, Room, Scene, Window
+from en17037cli.scene.section import (
+    CUT_HEIGHT_M,
+    Plan,
+    _segments,
+    cells_with_windows,
+    describe,
+    level_windows,
+    plan_of,
+    wall_off,
+    window_cell,
+)
 
-#: A room is at least this high: horizontal interior faces lower than this above the floor are
-#: furniture or steps, not its ceiling [m] ...
-MIN_ROOM_HEIGHT_M = 1.8
-#: ... and without a ceiling found over its floor, windows up to this height above the floor are its own [m].
-DEFAULT_ROOM_HEIGHT_M = 4.0
 #: Share of a window's width (or, for roof glazing, of its plan area) that must lie over the grown floor.
 MIN_OVER_FLOOR_SHARE = 0.5
 #: Glazing steeper than this (|normal z| below it) is a wall window, tested by its plan trace.
@@ -35,10 +48,6 @@ WIDTH_SAMPLES = 11
 SIDE_OFFSET_M = 1e-3
 #: Heights closer than this are equal when comparing glazing with floor and ceiling [m].
 HEIGHT_TOL_M = 0.01
-#: The ceiling is the lowest level of horizontal faces covering this share of the floor [-] ...
-CEILING_COVER = 0.5
-#: ... faces within this height of each other being one level [m].
-CEILING_LEVEL_M = 0.01
 
 
 @dataclass(frozen=True)
@@ -63,46 +72,6 @@ def floor_components(scene: Scene, floor_z: float):
         return []
     union = shapely.union_all(shapely.make_valid(shapely.polygons(tris[flat][..., :2]))).buffer(1e-6).buffer(-1e-6)
     return [union] if union.geom_type == "Polygon" else [g for g in getattr(union, "geoms", []) if g.geom_type == "Polygon"]
-
-
-def horizontal_faces(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """The horizontal interior faces of ``scene`` (|normal z| > 0.999, with area) and their mean
-    heights: (k, 3, 3) [m, local], (k,) [m]; made once per scene (ceilings and floors of every room
-    look them up)."""
-    hit = scene.__dict__.get("_horizontal")
-    if hit is None:
-        tris = scene.faces_of(scene.layer == INTERIOR)
-        normals, areas = triangle_normals(tris)
-        keep = (np.abs(normals[:, 2]) > 0.999) & (areas > 0)
-        hit = scene.__dict__["_horizontal"] = (tris[keep], tris[keep][..., 2].mean(axis=1))
-    return hit
-
-
-def derive_ceiling(scene: Scene, floor, floor_z: float) -> tuple[float, str]:
-    """Ceiling level [m, local] over a floor: the lowest level of horizontal interior faces at least
-    :data:`MIN_ROOM_HEIGHT_M` above it whose faces cover at least :data:`CEILING_COVER` of the floor
-    in plan (a lintel, a beam or a soffit covers a strip: not the ceiling); else the level covering
-    most of it; else floor + :data:`DEFAULT_ROOM_HEIGHT_M`."""
-    import shapely
-
-    tris, z = horizontal_faces(scene)
-    cand = z >= floor_z + MIN_ROOM_HEIGHT_M
-    x0, y0, x1, y1 = floor.bounds
-    lo, hi = tris[..., :2].min(axis=1), tris[..., :2].max(axis=1)
-    cand &= (lo[:, 0] < x1) & (hi[:, 0] > x0) & (lo[:, 1] < y1) & (hi[:, 1] > y0)  # over the floor's box
-    if np.any(cand) and floor.area > 0:
-        level = np.round(z[cand] / CEILING_LEVEL_M).astype(np.int64)
-        polys = shapely.make_valid(shapely.polygons(tris[cand][..., :2]))
-        cover = {}
-        for lv in np.unique(level):  # a few levels over a room: slab, beams, lintels
-            cover[lv] = shapely.union_all(polys[level == lv]).intersection(floor).area / floor.area
-        ok = [lv for lv in sorted(cover) if cover[lv] >= CEILING_COVER]
-        best = ok[0] if ok else max(cover, key=lambda lv: (cover[lv], -lv))
-        if cover[best] > 0:
-            zc = float(z[cand][level == best].min())
-            return zc, (f"the lowest horizontal interior faces over the floor covering {cover[best]:.0%} of it"
-                        + ("" if ok else f" (none covers {CEILING_COVER:.0%})"))
-    return floor_z + DEFAULT_ROOM_HEIGHT_M, f"no ceiling found over the floor: floor + {DEFAULT_ROOM_HEIGHT_M:g} m"
 
 
 def bounds_room(window: Window, floor, floor_z: float, ceiling_z: float, margin_m: float, z_world: float = 0.0) -> Bounding:
@@ -187,8 +156,6 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
             raise InputError(f"{where}.floor: not a simple polygon with area; list its corners in order")
         source = "given"
     else:
-        from en17037cli.scene.section import room_cell
-
         region = room_cell(scene, spec, floor_z, where)
         if region is not None:
             poly, cell, plan = region
@@ -215,8 +182,6 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
     else:
         ceiling_z, ceiling_source = derive_ceiling(scene, poly, floor_z)
     if region is not None and spec.floor is None and not ceiling_source.startswith("no ceiling"):
-        from en17037cli.scene.furniture import furnished_floor
-
         poly, added = furnished_floor(scene, plan, cell, ceiling_z)
         if added > 0:
             source += f", with {added:.2f} m² under furniture against its walls (it stops short of the ceiling)"
@@ -248,12 +213,87 @@ def make_room(scene: Scene, spec: RoomSpec, where: str, chosen: list[tuple[Windo
                 problem=problem)
 
 
+def room_cell(scene: Scene, spec, floor_z: float, where: str) -> tuple[object, int, Plan] | None:
+    """The region the walls enclose for a room given by name and level: (polygon [m, local], cell
+    index, plan), or None where the model has no wall at that level's eye height (the caller then
+    takes the horizontal faces at ``floor_z``) or the room has no window to pick a region by. The cell holding ``spec.inside``, else the one the room's
+    windows (its globs, else every window of the level) open from.
+
+    Raises
+    ------
+    InputError
+        ``inside`` in no region; the room's named windows opening from different regions; several
+        regions with windows and nothing to choose between them; windows opening from no region
+        (the walls do not close around them: the gap's position is named).
+    """
+    import shapely
+
+    plan = plan_of(scene, floor_z)
+    if not len(_segments(scene, floor_z + CUT_HEIGHT_M, (INTERIOR,))):
+        return None  # no wall at eye height: the floor is the horizontal faces (the caller's rule)
+    if spec.inside is not None:
+        p = shapely.points(np.asarray(spec.inside, float) - scene.origin[:2])
+        hit = [i for i, c in enumerate(plan.cells) if c.contains(p)]
+        if not hit:
+            raise InputError(f"{where}.inside: {list(spec.inside)} lies in no region the walls enclose at floor_z = "
+                             f"{spec.floor_z:g} m (regions: {'; '.join(describe(c, scene.origin) for c in plan.cells[:6])}); "
+                             "move the point into the room, or give floor: [[x, y], ...]")
+        return plan.cells[hit[0]], hit[0], plan
+    named = spec.windows is not None
+    candidates = [w for w in (scene.windows if named else level_windows(scene, floor_z))
+                  if not named or any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
+    by_cell = cells_with_windows(scene, plan, candidates)
+    if len(by_cell) > 1 and not named:  # regions without a floor (a void, a well) are not rooms where others have one
+        floored = {i: ws for i, ws in by_cell.items() if floor_cover(scene, plan.cells[i], floor_z) >= FLOOR_COVER}
+        by_cell = floored or by_cell
+    if len(by_cell) == 1:
+        i = next(iter(by_cell))
+        return plan.cells[i], i, plan
+    if len(by_cell) > 1:
+        regions = "; ".join(f"{describe(plan.cells[i], scene.origin)}: {', '.join(repr(w.name) for w in ws[:3])}"
+                            for i, ws in sorted(by_cell.items()))
+        if named:
+            raise InputError(f"{where}.windows: the windows named open from {len(by_cell)} different rooms ({regions}); "
+                             "name the windows of this room only, or give floor: [[x, y], ...]")
+        raise InputError(f"{where}: the walls enclose {len(by_cell)} rooms with windows at floor_z = {spec.floor_z:g} m "
+                         f"({regions}); name this room's windows (windows: [...]) or give inside: [x, y] (or rooms: "
+                         "[{auto: true, floor_z: ...}] for one room each)")
+    if not candidates:
+        return None  # no window to pick a region by: the caller's rule (and its "no window" problem)
+    gap = leak(scene, plan, candidates[0], floor_z)
+    raise InputError(f"{where}: the walls at floor_z = {spec.floor_z:g} m do not close around window "
+                     f"'{candidates[0].name}'{gap} (an open plan, or a wall missing from the model); give the room's "
+                     "floor: [[x, y], ...], or close the plan in the model")
+
+
+def leak(scene: Scene, plan: Plan, window: Window, floor_z: float) -> str:
+    """Where the region a window opens from runs out of the walls: `` (the walls open near (x, y))``
+    from the horizontal faces at ``floor_z`` (the slab) minus the walls, or "" where the model
+    gives no floor there."""
+    import shapely
+
+    tris = scene.faces_of(scene.layer == INTERIOR)
+    flat = np.all(np.abs(tris[..., 2] - floor_z) < 0.02, axis=1)
+    if not flat.any():
+        return ""
+    slab = shapely.union_all(shapely.make_valid(shapely.polygons(tris[flat][..., :2])))
+    free = slab.difference(plan.walls.buffer(0.01))
+    n = np.asarray(window.normal, float)[:2]
+    n = n / max(np.linalg.norm(n), 1e-12)
+    probes = shapely.points(window.centroid[None, :2] + np.outer(np.r_[-1.0, 1.0] * 0.5, n))
+    for part in shapely.get_parts(free):
+        if shapely.contains(part, probes).any():
+            edge = part.exterior.difference(plan.walls.buffer(0.02))
+            if not edge.is_empty:
+                c = edge.centroid
+                return f" (the walls open near ({c.x + scene.origin[0]:.1f}, {c.y + scene.origin[1]:.1f}))"
+    return ""
+
+
 def _warn_floorless(scene: Scene, spec: RoomSpec, poly, floor_z: float, where: str) -> None:
     """A warning where a room's region has no floor at its level while the level has floors
-    elsewhere (:func:`~en17037cli.scene.auto_rooms.floor_cover`): the void over a double-height
+    elsewhere (:func:`~en17037cli.scene.levels.floor_cover`): the void over a double-height
     room or a well, picked by a window of the room below or a point in the void."""
-    from en17037cli.scene.auto_rooms import FLOOR_COVER, floor_cover, floor_faces
-
     if floor_cover(scene, poly, floor_z) < FLOOR_COVER and floor_faces(scene, floor_z).any():
         scene.warnings.append(f"{where}: room '{spec.name}' has no floor under its region at floor_z = {spec.floor_z:g} m "
                               "(the void over a double-height room, a well?); check floor_z, inside and windows "
@@ -266,8 +306,6 @@ def _room_of_cell(scene: Scene, spec: RoomSpec, where: str, poly, cell: int, pla
     those that open from that region (a probe from the glazing into the building meets it first)
     with half their height between floor and ceiling; a window named by the spec's globs that
     opens from another region, or from none, is an input error naming both."""
-    from en17037cli.scene.section import wall_off, window_cell
-
     windows, reasons = [], {}
     for w in scene.windows:
         glob = _globbed(w, spec.windows) if spec.windows is not None else "*"
@@ -329,8 +367,6 @@ def check_shared_floors(rooms: list[Room], origin: np.ndarray, where: str) -> No
             small = min(a.floor.area, b.floor.area)
             if small <= 0 or a.floor.intersection(b.floor).area <= SHARED_FLOOR_SHARE * small:
                 continue
-            from en17037cli.scene.section import describe
-
             given = _given_elsewhere(a, b, describe(a.floor, origin))
             if given:
                 raise InputError(f"{where}: {given}")

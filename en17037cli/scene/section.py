@@ -13,7 +13,10 @@ square, add nothing. Small closed loops inside a cell (table legs, columns, a ki
 floor; larger ones (:data:`MIN_HOLE_M2`: a stair well, a shaft, a courtyard) stay holes.
 
 The cell of a room is the one its windows open from (a probe from each window's centre into
-the building, at most its wall's thickness away), or the one holding a point the user gives.
+the building, at most its wall's thickness away: :func:`window_cell`), or the one holding a point
+the user gives (:func:`~en17037cli.scene.rooms.room_cell`, which picks it). This module is the plan
+only: it knows the levels of the horizontal faces below it (:mod:`~en17037cli.scene.levels`) and
+nothing of rooms (:mod:`~en17037cli.scene.rooms`) or automatic rooms above it.
 """
 from __future__ import annotations
 
@@ -22,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from en17037cli.geometry import cut_triangles, in_triangle
+from en17037cli.scene.levels import derive_ceiling
 from en17037cli.scene.model import INTERIOR, WINDOW, Scene, Window
 
 #: Height of the plan cut above the floor [m]: the lower eye height of EN 17037, where the view is
@@ -173,10 +177,8 @@ def enclosed(walls) -> list:
 
 def _covered(scene: Scene, cell, floor_z: float) -> bool:
     """Whether a region has a roof: horizontal interior faces at least a room's height above its
-    floor cover half of it (:func:`~en17037cli.scene.rooms.derive_ceiling` finds one). A courtyard
+    floor cover half of it (:func:`~en17037cli.scene.levels.derive_ceiling` finds one). A courtyard
     or a roofless light well is a region the walls enclose with nothing over it."""
-    from en17037cli.scene.rooms import derive_ceiling
-
     return not derive_ceiling(scene, cell, floor_z)[1].startswith("no ceiling")
 
 
@@ -310,91 +312,6 @@ def describe(cell, origin) -> str:
     """``24.0 m² around (3.0, 2.0)`` in the model's coordinates [m]."""
     c = cell.representative_point()
     return f"{cell.area:.1f} m² around ({c.x + origin[0]:.1f}, {c.y + origin[1]:.1f})"
-
-
-def room_cell(scene: Scene, spec, floor_z: float, where: str) -> tuple[object, int, Plan] | None:
-    """The region the walls enclose for a room given by name and level: (polygon [m, local], cell
-    index, plan), or None where the model has no wall at that level's eye height (the caller then
-    takes the horizontal faces at ``floor_z``) or the room has no window to pick a region by. The cell holding ``spec.inside``, else the one the room's
-    windows (its globs, else every window of the level) open from.
-
-    Raises
-    ------
-    InputError
-        ``inside`` in no region; the room's named windows opening from different regions; several
-        regions with windows and nothing to choose between them; windows opening from no region
-        (the walls do not close around them: the gap's position is named).
-    """
-    import fnmatch
-
-    import shapely
-
-    from en17037cli.errors import InputError
-
-    plan = plan_of(scene, floor_z)
-    if not len(_segments(scene, floor_z + CUT_HEIGHT_M, (INTERIOR,))):
-        return None  # no wall at eye height: the floor is the horizontal faces (the caller's rule)
-    if spec.inside is not None:
-        p = shapely.points(np.asarray(spec.inside, float) - scene.origin[:2])
-        hit = [i for i, c in enumerate(plan.cells) if c.contains(p)]
-        if not hit:
-            raise InputError(f"{where}.inside: {list(spec.inside)} lies in no region the walls enclose at floor_z = "
-                             f"{spec.floor_z:g} m (regions: {'; '.join(describe(c, scene.origin) for c in plan.cells[:6])}); "
-                             "move the point into the room, or give floor: [[x, y], ...]")
-        return plan.cells[hit[0]], hit[0], plan
-    named = spec.windows is not None
-    candidates = [w for w in (scene.windows if named else level_windows(scene, floor_z))
-                  if not named or any(fnmatch.fnmatchcase(w.name, g) for g in spec.windows)]
-    by_cell = cells_with_windows(scene, plan, candidates)
-    if len(by_cell) > 1 and not named:  # regions without a floor (a void, a well) are not rooms where others have one
-        from en17037cli.scene.auto_rooms import FLOOR_COVER, floor_cover
-
-        floored = {i: ws for i, ws in by_cell.items() if floor_cover(scene, plan.cells[i], floor_z) >= FLOOR_COVER}
-        by_cell = floored or by_cell
-    if len(by_cell) == 1:
-        i = next(iter(by_cell))
-        return plan.cells[i], i, plan
-    if len(by_cell) > 1:
-        regions = "; ".join(f"{describe(plan.cells[i], scene.origin)}: {', '.join(repr(w.name) for w in ws[:3])}"
-                            for i, ws in sorted(by_cell.items()))
-        if named:
-            raise InputError(f"{where}.windows: the windows named open from {len(by_cell)} different rooms ({regions}); "
-                             "name the windows of this room only, or give floor: [[x, y], ...]")
-        raise InputError(f"{where}: the walls enclose {len(by_cell)} rooms with windows at floor_z = {spec.floor_z:g} m "
-                         f"({regions}); name this room's windows (windows: [...]) or give inside: [x, y] (or rooms: "
-                         "[{auto: true, floor_z: ...}] for one room each)")
-    if not candidates:
-        return None  # no window to pick a region by: the caller's rule (and its "no window" problem)
-    gap = leak(scene, plan, candidates[0], floor_z)
-    raise InputError(f"{where}: the walls at floor_z = {spec.floor_z:g} m do not close around window "
-                     f"'{candidates[0].name}'{gap} (an open plan, or a wall missing from the model); give the room's "
-                     "floor: [[x, y], ...], or close the plan in the model")
-
-
-def leak(scene: Scene, plan: Plan, window: Window, floor_z: float) -> str:
-    """Where the region a window opens from runs out of the walls: `` (the walls open near (x, y))``
-    from the horizontal faces at ``floor_z`` (the slab) minus the walls, or "" where the model
-    gives no floor there."""
-    import shapely
-
-    from en17037cli.scene.model import INTERIOR as _INTERIOR
-
-    tris = scene.faces_of(scene.layer == _INTERIOR)
-    flat = np.all(np.abs(tris[..., 2] - floor_z) < 0.02, axis=1)
-    if not flat.any():
-        return ""
-    slab = shapely.union_all(shapely.make_valid(shapely.polygons(tris[flat][..., :2])))
-    free = slab.difference(plan.walls.buffer(0.01))
-    n = np.asarray(window.normal, float)[:2]
-    n = n / max(np.linalg.norm(n), 1e-12)
-    probes = shapely.points(window.centroid[None, :2] + np.outer(np.r_[-1.0, 1.0] * 0.5, n))
-    for part in shapely.get_parts(free):
-        if shapely.contains(part, probes).any():
-            edge = part.exterior.difference(plan.walls.buffer(0.02))
-            if not edge.is_empty:
-                c = edge.centroid
-                return f" (the walls open near ({c.x + scene.origin[0]:.1f}, {c.y + scene.origin[1]:.1f}))"
-    return ""
 
 
 def wall_off(scene: Scene, plan: Plan, window: Window, d: float, outward: np.ndarray) -> str:

@@ -34,10 +34,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from en17037cli.criteria.daylight.sky import transmittance_table
+from en17037cli.criteria.view.cells import base_cells
 from en17037cli.criteria.view.frames import RoomGeometry
 from en17037cli.criteria.view.gnomonic import patches
 from en17037cli.criteria.view.rays import SKY, ViewRays
-from en17037cli.criteria.view.solid_angle import Sampler, _base_cells, _split
+from en17037cli.criteria.view.refine import split_cells
+from en17037cli.criteria.view.sampler import Sampler
 from en17037cli.geometry import offset_rectangle_solid_angle
 
 #: The sky component per steradian of a direction with integrand 1 [1/sr]: 1 / (7 π / 9), the
@@ -155,7 +157,7 @@ def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv:
     if not len(P.pt):
         return SkyComponent(value, bound, ncell, binned)
     sample = Sampler(view_rays, rg, points, P, False)
-    cells = _base_cells(sample, P)
+    cells = base_cells(sample, P)
     tv = np.asarray(tv, float)
     axes = np.stack([np.stack([f.u, f.v, f.n]) for f in rg.frames])  # (windows, 3, 3)
     abs_raw = tol.abs_tolerance / SC_PER_SR
@@ -199,7 +201,7 @@ def sky_component(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, tv:
             binned += _node_bins(axes, tv, P, cells, fin, share[fin], bins, nbins, np.asarray(normal, float), p)
         if not split.any():
             break
-        cells = _split(sample, cells, np.flatnonzero(split), neighbours=level + 1 < tol.refine_levels)
+        cells = split_cells(sample, cells, np.flatnonzero(split), neighbours=level + 1 < tol.refine_levels)
     return SkyComponent(value * SC_PER_SR, bound * SC_PER_SR, ncell, binned)
 
 
