@@ -177,6 +177,7 @@ class RayEngine:
             self.add_group(name, faces)
         self.rays_traced = 0
         self._count_lock = threading.Lock()
+        self._build_lock = threading.RLock()  # a group is built once when two threads ask for it at once
         self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
 
     def __enter__(self) -> RayEngine:
@@ -211,6 +212,12 @@ class RayEngine:
 
     def _group(self, name: str):
         """(embree scene or None, face ids of the group), built on first use; identical groups share one scene."""
+        if name in self._groups:
+            return self._groups[name]
+        with self._build_lock:
+            return self._build_group(name)
+
+    def _build_group(self, name: str):
         if name not in self._groups:
             from embreex import rtcore_scene as rtcs
             from embreex.mesh_construction import TriangleMesh

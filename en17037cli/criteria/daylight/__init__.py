@@ -149,15 +149,20 @@ class DaylightCriterion(Criterion):
     def reflected(self, ctx: Context, room, points, sky=None):
         """The reflected components at ``points``: light paths with next-event estimation through the
         room's windows, what is outside from Radiance (:mod:`.transport`, :func:`.gather.reflected_paths`);
-        with the points' sky component ``sky``, a point stops early once its D is clear of every
-        threshold of Table A.1."""
+        with the points' sky component ``sky`` (or a function giving it), a point stops early once its
+        D is clear of every threshold of Table A.1."""
         from en17037cli.criteria.daylight.assess import targets
         from en17037cli.criteria.daylight.gather import reflected_paths, sampling_frame
 
         median, _ = self.median(ctx)
         et, etm = targets(ctx.project.thresholds)
         thresholds = sorted({v / median for v in (*et.values(), *etm.values())})
-        known = None if sky is None or not self._settings(ctx).radiance.stop_clear_of_thresholds else (sky.value, sky.bound)
+        if sky is None or not self._settings(ctx).radiance.stop_clear_of_thresholds:
+            known = None
+        elif callable(sky):  # computed in another thread meanwhile
+            known = lambda: (lambda sc: (sc.value, sc.bound))(sky())  # noqa: E731
+        else:
+            known = (sky.value, sky.bound)
         return reflected_paths(self.paths_scene(ctx, room), self.octree(ctx), points, SKY_LX, self.gather_settings(ctx),
                                sampling_frame(room.windows[0].normal), ctx.engine.threads, known, thresholds)
 
@@ -191,9 +196,19 @@ class DaylightCriterion(Criterion):
         t = time.perf_counter()
         if s.method == "daylight_factor":
             self.octree_soon(ctx)
-            sc = self.sky(ctx, room, plan)
-            t_sky = time.perf_counter() - t
-            refl = self.reflected(ctx, room, plan, sc)
+            # the sky component in a second thread while the first round of light paths runs (its
+            # rtrace is a separate program): the reflected part needs the sky component only to stop
+            # points early, after that round; the numbers are those of one after the other
+            from concurrent.futures import ThreadPoolExecutor
+
+            def timed_sky():
+                t0 = time.perf_counter()
+                return self.sky(ctx, room, plan), time.perf_counter() - t0
+
+            with ThreadPoolExecutor(1) as pool:
+                job = pool.submit(timed_sky)
+                refl = self.reflected(ctx, room, plan, lambda: job.result()[0])
+                sc, t_sky = job.result()
             res = daylight_factor_room(plan, sc, refl, median, source, ctx.project.thresholds, params)
             res.radiance["sky_time_s"] = t_sky
         else:

@@ -190,7 +190,8 @@ def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSetti
     with one path per direction; and a point is also done once its daylight factor, ``known`` =
     (value, bound) (p,) [-] (the sky component) plus the reflected part, lies farther than their
     errors from every one of ``thresholds`` [-] (D_T and D_TM of each level): more paths would not
-    move it across one."""
+    move it across one. ``known`` may also be a function giving that pair, called once after the first
+    round's paths (the sky component computed meanwhile in another thread: the same numbers)."""
     from en17037cli.criteria.daylight.transport import trace_paths
 
     p = len(points)
@@ -221,6 +222,8 @@ def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSetti
         trusted = (lit[todo] >= MIN_LIT) | (lit[todo] == 0)
         precise = half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)
         if known is not None and len(thresholds):
+            if callable(known):  # the sky component, once it is there
+                known = known()
             d, e = known[0][todo] + mean, known[1][todo] + half
             precise |= np.all(np.abs(d[:, None] - np.asarray(thresholds)[None]) > e[:, None], axis=1)
         done = (precise & trusted) | (2 * count[todo] > s.max_rays)
