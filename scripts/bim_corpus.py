@@ -52,7 +52,8 @@ def authoring_tool(path: Path) -> tuple[str, str]:
 
 
 def site_longitude(path: Path) -> float | None:
-    """The IfcSite's RefLongitude [deg], or None (ifcopenshell, which the ifc extra brings)."""
+    """The IfcSite's RefLongitude [deg], or None where it has none or is the null site (0, 0)
+    (ifcopenshell, which the ifc extra brings)."""
     import ifcopenshell
 
     from en17037cli.io.ifc_site import compound_degrees
@@ -61,7 +62,12 @@ def site_longitude(path: Path) -> float | None:
         sites = ifcopenshell.open(str(path)).by_type("IfcSite")
     except Exception:  # a file ifcopenshell cannot open: the check itself says why (exit 2)
         return None
-    return compound_degrees(sites[0].RefLongitude) if sites else None
+    if not sites:
+        return None
+    from en17037cli.scene.site import is_null_site
+
+    lat, lon = compound_degrees(sites[0].RefLatitude), compound_degrees(sites[0].RefLongitude)
+    return None if is_null_site(lat, lon) else lon  # the null site says nothing: the check asks for a location
 
 
 def text_of(path: Path, limit: int | None = None) -> str:
