@@ -562,6 +562,16 @@ def test_footprint_overlap_and_without_objects(tmp_path):
     assert [rest.parts[i].attrs["id"] for i in np.unique(rest.part)] == ["B", "G"]
 
 
+def test_footprint_overlap_of_a_building_with_no_plan_area_is_none(tmp_path):
+    # a building drawn as one vertical wall (every triangle flat in plan) inside the footprint: it
+    # covers no plan area, so it overlaps nothing (an internal IndexError before)
+    v = [[0, 0, 0], [10000, 0, 0], [10000, 0, 6000], [0, 0, 6000]]
+    objects = {"W": {"type": "Building", "geometry": [{"type": "MultiSurface", "lod": "2", "boundaries": [[[0, 1, 2, 3]]]}]}}
+    m = read_cityjson(write(tmp_path, cityjson(objects, v)))
+    assert len(m.triangles) == 2
+    assert footprint_overlap(m, shapely.box(84990.0, 445990.0, 85020.0, 446010.0)) == []
+
+
 # --- real data ------------------------------------------------------------------------------
 
 

@@ -55,6 +55,8 @@ def footprint_overlap(mesh: Mesh, footprint, min_share: float = 0.5, classes=BUI
         return []
     sel = np.isin(tri_obj, candidates) & (plan_area > 1e-9)
     rows = np.flatnonzero(sel)
+    if len(rows) == 0:  # the candidates' triangles are all flat in plan (walls only, or degenerate)
+        return []
     rows = rows[np.argsort(tri_obj[rows], kind="stable")]
     polys = shapely.polygons(np.concatenate([xy[rows], xy[rows, :1]], axis=1))
     objs = tri_obj[rows]
