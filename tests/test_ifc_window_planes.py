@@ -174,3 +174,25 @@ def test_a_deep_window_falls_back_on_its_overall_size_then_its_host():
     thin = trimesh.creation.box(extents=(0.08, 2.26, 2.37))  # clearly thin: its own geometry wins over a flat host
     p = window_plane(np.asarray(thin.vertices), np.asarray(thin.faces), np.eye(3), None, lintel)
     assert abs(p.normal @ [1.0, 0.0, 0.0]) == pytest.approx(1.0) and "thinnest" in p.how and p.host_disagrees
+
+
+def test_a_square_window_nearly_as_deep_as_wide_takes_the_closest_match_of_its_overall_size():
+    """A 0.60 x 0.60 m window 0.54 m deep (Renga Architecture: linings through a 0.54 m wall) matches
+    its OverallWidth x OverallHeight across its depth exactly and across its width within 10 % (0.54
+    against 0.60): the exact match is its plane, so the pane in it is found; the first candidate
+    that matched (its placement's x axis, across its width) found no pane and left it opaque."""
+    import trimesh
+
+    from en17037cli.io.ifc_windows import THIN_RATIO, panes_from_geometry, window_plane
+
+    frame = trimesh.creation.box(extents=(0.60, 0.54, 0.60))  # width along x, depth along y (the wall), height z
+    pane = trimesh.creation.box(extents=(0.50, 0.01, 0.50))  # the glass, a thin plate in the wall's plane
+    both = trimesh.util.concatenate([frame, pane])
+    v, f = np.asarray(both.vertices), np.asarray(both.faces)
+    assert 0.54 / 0.60 > THIN_RATIO  # not clearly thin across any axis
+    p = window_plane(v, f, np.eye(3), (0.60, 0.60), np.array([0.0, 1.0, 0.0]))
+    assert abs(p.normal @ [0.0, 1.0, 0.0]) == pytest.approx(1.0) and "OverallWidth" in p.how and not p.host_disagrees
+    glass, opening, _ = panes_from_geometry(v, f, p.normal)
+    assert glass.any() and opening is None
+    p = window_plane(v, f, np.eye(3), (0.60, 1.80), np.array([0.0, 1.0, 0.0]))  # no side matches: the host
+    assert abs(p.normal @ [0.0, 1.0, 0.0]) == pytest.approx(1.0)

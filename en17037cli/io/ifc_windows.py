@@ -11,7 +11,9 @@ around it. The window's extent is measured along each; the candidate across whic
 is its normal where that depth is at most :data:`THIN_RATIO` of its smaller in-plane side. A
 window nearly as deep as it is wide (a small window with linings through a thick wall) is
 ambiguous: then the candidate whose in-plane sides match the window's OverallWidth x
-OverallHeight, else its host's faces, else the plane of most of its faces.
+OverallHeight best (a 0.6 m square window 0.54 m deep matches within 10 % across its width too:
+the closer match, across its depth, wins), else its host's faces, else the plane of most of its
+faces.
 
 **Panes from geometry** (:func:`panes_from_geometry`): the thin plates in that plane
 (:func:`~en17037cli.io.ifc_glazing.pane_faces`), kept only where together they cover at least
@@ -126,11 +128,16 @@ def window_plane(vertices: np.ndarray, faces: np.ndarray, axes: np.ndarray | Non
         if overall is not None:
             ow, oh = overall
             tol = lambda a: max(0.05, OUTLINE_MATCH * a)  # noqa: E731
-            for i, (_, eu, ew) in enumerate(dims):  # a handful of candidates
-                if (abs(eu - ow) <= tol(ow) and abs(ew - oh) <= tol(oh)) or (abs(eu - oh) <= tol(oh) and abs(ew - ow) <= tol(ow)):
-                    k = i
-                    how = f"its OverallWidth x OverallHeight ({ow:.2f} x {oh:.2f} m, across {cands[i][3]})"
-                    break
+            best = None
+            for i, (d, eu, ew) in enumerate(dims):  # a handful of candidates: the one whose sides match best
+                for a, b in ((ow, oh), (oh, ow)):
+                    if abs(eu - a) <= tol(a) and abs(ew - b) <= tol(b):
+                        miss = max(abs(eu - a) / tol(a), abs(ew - b) / tol(b))  # a 0.6 m square 0.54 m deep matches
+                        if best is None or (miss, d) < best[:2]:  # across its depth exactly, across its width within 10 %
+                            best = (miss, d, i)
+            if best is not None:
+                k = best[2]
+                how = f"its OverallWidth x OverallHeight ({ow:.2f} x {oh:.2f} m, across {cands[k][3]})"
         if k < 0:
             k = next((i for i, c in enumerate(cands) if c[3] == "its host's faces"), len(cands) - 1)
             how = cands[k][3]

@@ -273,3 +273,21 @@ def test_a_windowed_space_with_no_floor_is_left_out_by_name_never_dropped(tmp_pa
     (lo,) = rep["spaces_left_out"]
     assert lo["name"] == "box room" and lo["windows"] == ["glazing"] and "no floor" in lo["reason"]
     assert rep["summary"]["spaces_with_windows_not_assessed"] == 1
+
+
+def test_a_file_that_says_feet_and_writes_metres_is_read_in_the_unit_its_rooms_say(tmp_path):
+    """A gbXML whose lengthUnit is Feet but whose coordinates are metres (Ladybug Spider's SPEED
+    generator: 4.0 "ft" storeys, rooms 1.22 m tall) gave rooms nobody stands in: point P above every
+    window's head, no utilised area, every room NOT ASSESSABLE on reasons that hid the cause. Its
+    spaces' median height is implausible in Feet and likely in Meters: it is read in Meters, with a
+    warning naming both; a file honestly in Feet is read as it says, with no warning."""
+    b = BoxRoom()
+    says_feet = box_room_gbxml(b).replace('lengthUnit="Meters"', 'lengthUnit="Feet"')
+    m = read_gbxml(write(tmp_path / "lie", says_feet))
+    metres = read_gbxml(write(tmp_path / "m", box_room_gbxml(b)))
+    assert np.allclose(m.vertices, metres.vertices, atol=1e-9) and not any("lengthUnit" in w for w in metres.warnings)
+    assert any("read in Feet" in w and "read in Meters instead" in w for w in m.warnings), m.warnings
+    assert m.summary.startswith("gbXML 0.37 in Meters")
+    honest = read_gbxml(write(tmp_path / "ft", box_room_gbxml(b, unit="Feet")))
+    assert not any("lengthUnit" in w for w in honest.warnings)
+    assert np.allclose(np.sort(honest.vertices, axis=0)[[0, -1]], np.sort(m.vertices, axis=0)[[0, -1]], atol=1e-6)

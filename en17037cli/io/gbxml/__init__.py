@@ -44,7 +44,7 @@ import numpy as np
 from en17037cli.errors import InputError
 from en17037cli.geometry import triangulate_polygons
 from en17037cli.io.cityjson.semantics import counted
-from en17037cli.io.gbxml.parse import Document, SpaceRecord, read_document
+from en17037cli.io.gbxml.parse import Document, SpaceRecord, likely_unit, read_document
 from en17037cli.io.gbxml.sides import UP, crossings, glazing_sides
 from en17037cli.io.mesh import Mesh, Part, Site, Space
 from en17037cli.io.openings import plane_basis, polygon_minus_openings
@@ -191,6 +191,14 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
     path = Path(path)
     options = options or ReadOptions()
     doc = read_document(path, _lxml(path))
+    unit_warnings = []
+    guess = likely_unit(doc)
+    if guess is not None:  # a file that says Feet and writes metres: read in the unit its rooms say
+        declared = doc.unit
+        doc = read_document(path, _lxml(path), unit=guess[0])
+        unit_warnings.append(f"{path.name}: its spaces are {guess[1]:.2f} m tall (the median) read in {declared} (the file's "
+                             f"lengthUnit), not rooms; read in {guess[0]} instead ({guess[2]:.2f} m): check the building's size "
+                             f"(validate), and ask for an export whose lengthUnit is the unit of its coordinates")
     names = {s.id: s.name for s in doc.spaces}
     sp_index = {s.id: i for i, s in enumerate(doc.spaces)}
     excluded = set(options.exclude)
@@ -278,7 +286,7 @@ def read_gbxml(path: Path, options: ReadOptions | None = None) -> Mesh:
                f"openings: {open_counts or 'none'}; {counted(glz, 'exterior window')} ({sum('interior glazing)' not in r for r in reclassified)} "
                f"reclassified from their surface's type), {counted(len(interior), 'interior glazing')}; left out: Air surfaces and openings "
                f"({counts.get('Air', 0)}){f', {n_no_geometry} surfaces without PlanarGeometry' if n_no_geometry else ''}")
-    return Mesh(verts, tris, part, b.parts, warnings, notes, units="m", up_axis="z", site=site, spaces=spaces, summary=summary)
+    return Mesh(verts, tris, part, b.parts, unit_warnings + warnings, notes, units="m", up_axis="z", site=site, spaces=spaces, summary=summary)
 
 
 def _spaces(doc: Document, floors, bodies, verdict) -> tuple[list[Space], list[str]]:

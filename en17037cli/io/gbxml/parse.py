@@ -115,15 +115,17 @@ def _float(s: str) -> float | None:
         return None
 
 
-def read_document(path: Path, etree) -> Document:
-    """Parse ``path`` into a :class:`Document` (InputError for malformed XML, not gbXML, no or an unknown lengthUnit)."""
+def read_document(path: Path, etree, unit: str | None = None) -> Document:
+    """Parse ``path`` into a :class:`Document` (InputError for malformed XML, not gbXML, no or an unknown
+    lengthUnit); ``unit`` (a gbXML length unit) overrides the file's lengthUnit, and its square the
+    areaUnit where that is the square of the file's (see :func:`likely_unit`)."""
     doc = None
     tags = ["{*}Space", "{*}Surface", "{*}Location", "{*}BuildingStorey", "{*}Zone",
             "Space", "Surface", "Location", "BuildingStorey", "Zone"]
     try:
         for _, el in etree.iterparse(str(path), events=("end",), tag=tags, huge_tree=True):
             if doc is None:
-                doc = _root(path, el.getroottree().getroot())
+                doc = _root(path, el.getroottree().getroot(), unit)
             name = local(el.tag)
             try:
                 if name == "Space" and el.getparent() is not None and local(el.getparent().tag) == "Building":
@@ -152,11 +154,11 @@ def read_document(path: Path, etree) -> Document:
             root = etree.parse(str(path)).getroot()
         except etree.XMLSyntaxError as exc:
             raise InputError(f"{path}:{exc.lineno or '?'}: not well-formed XML ({exc.msg}); export it again") from None
-        doc = _root(path, root)
+        doc = _root(path, root, unit)
     return doc
 
 
-def _root(path: Path, root) -> Document:
+def _root(path: Path, root, override: str | None = None) -> Document:
     if local(root.tag) != "gbXML":
         hint = " (a CityGML file: give it the ending .gml)" if local(root.tag) == "CityModel" else ""
         raise InputError(f"{path}: XML but not gbXML (root element '{local(root.tag)}', expected gbXML){hint}; "
@@ -168,8 +170,52 @@ def _root(path: Path, root) -> Document:
     if unit not in LENGTH_UNITS:
         raise InputError(f"{path}: lengthUnit '{unit}' is not a gbXML length unit ({', '.join(LENGTH_UNITS)}); "
                          "export the file again")
-    return Document(version=root.get("version", "?"), unit=unit, scale=LENGTH_UNITS[unit],
-                    area_scale=AREA_UNITS.get(root.get("areaUnit", "")))
+    area = root.get("areaUnit", "")
+    if override is not None:
+        area = f"Square{override}" if area == f"Square{unit}" else area
+        unit = override
+    return Document(version=root.get("version", "?"), unit=unit, scale=LENGTH_UNITS[unit], area_scale=AREA_UNITS.get(area))
+
+
+#: The median height of a gbXML file's spaces [m] that rooms can have, read in its lengthUnit ...
+SPACE_PLAUSIBLE_M = (1.8, 30.0)
+#: ... and the range another unit must bring it into (the likeliest nearest the typical storey).
+SPACE_LIKELY_M, SPACE_TYPICAL_M = (2.0, 8.0), 3.0
+
+
+def likely_unit(doc: Document) -> tuple[str, float, float] | None:
+    """(unit, median height read [m], median height in that unit [m]) where the spaces of ``doc``
+    are implausible as rooms in its lengthUnit and one other gbXML unit makes them likely; else None.
+
+    A space's height is the vertical extent of its ShellGeometry, else of the surfaces adjacent to
+    it. A file that says Feet and writes metres (Ladybug Spider's SPEED generator: 4.0 "ft"
+    storeys, 1.22 m) gives rooms nobody stands in: P above every window's head, no utilised area.
+    """
+    by_space: dict[str, list[np.ndarray]] = {}
+    for srf in doc.surfaces:
+        if srf.loop is not None:
+            for sid in srf.spaces:
+                by_space.setdefault(sid, []).append(srf.loop[:, 2])
+    heights = []
+    for sp in doc.spaces:
+        z = [lp[:, 2] for lp in sp.shell] or by_space.get(sp.id, [])
+        if z:
+            zz = np.concatenate(z)
+            heights.append(float(zz.max() - zz.min()))
+    heights = [h for h in heights if h > 0]
+    if not heights:
+        return None
+    med = float(np.median(heights))
+    if SPACE_PLAUSIBLE_M[0] <= med <= SPACE_PLAUSIBLE_M[1]:
+        return None
+    best = None
+    for name in ("Meters", "Centimeters", "Millimeters", "Feet", "Inches"):  # the units exports are written in
+        h = med / doc.scale * LENGTH_UNITS[name]
+        if name != doc.unit and SPACE_LIKELY_M[0] <= h <= SPACE_LIKELY_M[1]:
+            score = abs(np.log(h / SPACE_TYPICAL_M))
+            if best is None or score < best[0]:
+                best = (score, name, h)
+    return None if best is None else (best[1], med, best[2])
 
 
 def _space(el, scale: float, area_scale: float | None = None) -> SpaceRecord:
