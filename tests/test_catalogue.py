@@ -138,7 +138,7 @@ CASES = [
     ("obj-empty", write_file("empty.obj", "# nothing\n"), "no faces found"),
     ("obj-no-glazing", obj_edit(lambda t: t.replace("o glazing", "o glass")), "matches no layer rule"),
     ("no-window-layer", doc_edit(lambda d: [r.update(layer="interior") for r in files0(d)["layers"] if r["match"] == "glazing"]),
-     "no face is on the 'window' layer"),
+     "no face is on the 'window' layer: no glazing was found"),
     ("all-ignored", doc_edit(lambda d: files0(d).update(layers=[{"match": "*", "layer": "ignore"}])),
      "no geometry loaded (every file is 'ignore')"),
     ("stl-cut-short", write_file("cut.stl", b"\0" * 80 + struct.pack("<I", 12) + b"\0" * 593), "binary STL header says 12 triangles"),

@@ -38,7 +38,10 @@ def build_scene(project: Project) -> Scene:
     win_mask = g.layer == WINDOW
     if not np.any(win_mask):
         unread = "".join(f"; {label} ({display}): {why}" for display, label, why in g.windows_left_out[:3])
-        raise InputError(f"{where}: model.files: no face is on the 'window' layer; assign the glazing to layer: window{unread}")
+        raise InputError(f"{where}: model.files: no face is on the 'window' layer: no glazing was found (no glazed IfcWindow, "
+                         "IfcDoor or curtain-wall panel, no gbXML Opening that lets light through, no file or object placed "
+                         "on the window layer); give the glazing's file layer: window, or a layer rule matching its objects "
+                         f"(object, material, IFC class or Name), e.g. layers: [{{match: \"*glass*\", layer: window}}]{unread}")
     # Local origin: centre of the windows' bounding box, float64 (see trimesh/ray/ray_pyembree.py).
     wv = g.vertices[g.triangles[win_mask]].reshape(-1, 3)
     origin = 0.5 * (wv.min(axis=0) + wv.max(axis=0))
