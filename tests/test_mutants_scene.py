@@ -124,6 +124,23 @@ def test_far_spaces_spaces_beside_and_none():
     assert match(scene([space("A", *A, problem="no floor")])).spaces == []
 
 
+def test_a_window_over_a_space_drawn_to_its_suspended_ceiling_names_the_space_below():
+    # the glazing spans z 1-2 m; the space in front of it (y 0-5) is drawn from -2 m up to 0.9 m, as a
+    # space drawn up to a suspended ceiling under a clerestory: no ray from the glazing enters it, and the
+    # reason names it, 1.00 - 0.90 = 0.10 m under the glazing
+    low = Space("low", "Low", "", "S", np.array([(0, 0), (4, 0), (4, 5), (0, 5)], float), -2.0, 0.9)
+    m = match(scene([low]))
+    assert m.spaces == []
+    assert m.why.startswith("its glazing starts 0.10 m above the top of the space 'Low' below it (a window over a space "
+                            "drawn up to its suspended ceiling lights no room of the model); no space of the model lies "
+                            "within 0.5 m of its glazing")
+    # a space whose top is more than UNDER_M below, or one beside the window in plan, is not named
+    deep = Space("deep", "Deep", "", "S", np.array([(0, 0), (4, 0), (4, 5), (0, 5)], float), -3.0, -1.05)
+    assert match(scene([deep])).why.startswith("no space of the model")
+    beside = Space("b", "Beside", "", "S", np.array([(5, 0), (8, 0), (8, 5), (5, 5)], float), -2.0, 0.9)
+    assert match(scene([beside])).why.startswith("no space of the model")
+
+
 def test_shares_insides_and_the_nearer_side():
     # samples on a 5 x 5 grid at x = 1.2 .. 2.8: a space over x >= 2.1 holds two columns (40 %), over x >= 2.5 one (20 %)
     m = match(scene([space("A", 2.1, 4, 0, 5)]))
