@@ -163,3 +163,51 @@ def test_merge_by_hand():
     assert iv[0].tolist() == [[0.0, 5.0]] and iv[1].tolist() == [[5.0, 9.0]] and e.tolist() == [0.25, 0.5]
     iv, e = exact._merge(t_c, np.zeros(4), np.array([0, 0, 1, 1]), np.array([0, 2]), np.array([False, False]), 2)
     assert [x.shape for x in iv] == [(0, 2), (0, 2)] and e.tolist() == [0.0, 0.0]
+
+
+# --- the hour-angle windows of an edge's arc --------------------------------------------------------
+
+
+def _equatorial(lat_deg, north_deg):
+    """Pole, meridian (hour angle 0 at declination 0) and west, in the model frame at latitude ``lat_deg`` with
+    true north ``north_deg`` clockwise from +y (a horizon azimuth A lies at model azimuth A + north)."""
+    f, t = np.radians(lat_deg), np.radians(north_deg)
+    rot = np.array([[np.cos(t), np.sin(t), 0.0], [-np.sin(t), np.cos(t), 0.0], [0.0, 0.0, 1.0]])  # clockwise by t
+    return rot @ [0.0, np.cos(f), np.sin(f)], rot @ [0.0, -np.sin(f), np.cos(f)], rot @ [-1.0, 0.0, 0.0], rot
+
+
+def _direction(h_deg, dec_deg, lat_deg, north_deg):
+    """Model-frame unit vector at hour angle ``h_deg`` (westwards from the meridian) and declination ``dec_deg``."""
+    pole, m0, w, _ = _equatorial(lat_deg, north_deg)
+    h, d = np.radians(h_deg), np.radians(dec_deg)
+    return np.cos(d) * (np.cos(h) * m0 + np.sin(h) * w) + np.sin(d) * pole
+
+
+@pytest.mark.parametrize("lat, north", [(52.0, 30.0), (90.0, 0.0), (-33.0, 0.0), (0.0, 90.0)])
+def test_hour_angle_windows_by_hand(lat, north):
+    """A stand-in sun at declination -10 deg whose hour angle turns once a day, 0 at noon (43200 s): the
+    arc from hour angle -30 deg (declination 25) to +15 deg (declination -35) is crossed, if at all,
+    between 36000 s and 46800 s, widened by HOUR_ANGLE_SLACK_S; the hour angle is the sun's turn about
+    the pole whatever the latitude and true north (at 90 deg the pole is exactly the zenith; at the
+    equator with true north along +x, exactly +x)."""
+    _, _, _, rot = _equatorial(lat, north)
+
+    def path(t):
+        h = np.degrees(W * (np.asarray(t, float) - 43200.0))
+        s = np.array([_direction(x, -10.0, lat, north) for x in h]) @ rot  # back to the horizon frame
+        return np.degrees(np.arcsin(s[:, 2])), np.degrees(np.arctan2(s[:, 0], s[:, 1]))
+
+    sp = exact.SunSpline(path, 0.0, 86400.0, north)
+    pole = _equatorial(lat, north)[0]
+    pole = np.where(np.abs(pole) < 1e-12, 0.0, pole)  # (0, 0, 1) and (1, 0, 0) exactly, not 6e-17 off
+    u, v = _direction(-30.0, 25.0, lat, north), _direction(15.0, -35.0, lat, north)
+    slack = exact.HOUR_ANGLE_SLACK_S
+    for a_, b_ in ((u, v), (v, u)):  # the short way round, either way
+        lo, hi = exact._hour_angle_windows(sp, pole, a_[None], b_[None], np.array([0.0]), np.array([86400.0]))
+        open_ = hi[0] > lo[0]
+        assert open_.sum() == 1
+        assert (lo[0][open_][0], hi[0][open_][0]) == pytest.approx((36000.0 - slack, 46800.0 + slack), abs=1e-3)
+    # clipped to the day's span
+    lo, hi = exact._hour_angle_windows(sp, pole, u[None], v[None], np.array([40000.0]), np.array([86400.0]))
+    open_ = hi[0] > lo[0]
+    assert (lo[0][open_][0], hi[0][open_][0]) == pytest.approx((40000.0, 46800.0 + slack), abs=1e-3)
