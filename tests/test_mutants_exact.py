@@ -211,3 +211,57 @@ def test_hour_angle_windows_by_hand(lat, north):
     lo, hi = exact._hour_angle_windows(sp, pole, u[None], v[None], np.array([40000.0]), np.array([86400.0]))
     open_ = hi[0] > lo[0]
     assert (lo[0][open_][0], hi[0][open_][0]) == pytest.approx((40000.0, 46800.0 + slack), abs=1e-3)
+
+
+# --- an edge whose band of declinations only just reaches the sun's ----------------------------------
+
+
+def _post_behind_the_sun(date, azimuth_deg, distance_m, above_deg, half, below_deg=None):
+    """A square post (half-width ``half`` [m]) ``distance_m`` from P (tests/test_sunlight_exact.P) at
+    ``azimuth_deg``, its top ``above_deg`` above the sun's elevation when the sun is at that azimuth
+    (pvlib's sun, tests/oracles.py, bisected to 1e-6 s), its foot on the ground or, with ``below_deg``,
+    that far below the sun (a hanging box): its faces and the closed-form ray test."""
+    from oracles import local_midnight, sun_position
+    from test_sunlight_exact import LAT, LON, P
+
+    lo, hi = local_midnight(date) + 6 * 3600.0, local_midnight(date) + 12 * 3600.0  # the morning: azimuth rising
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if sun_position(np.array([mid]), LAT, LON, refraction=True)[1][0] < azimuth_deg else (lo, mid)
+    elev = sun_position(np.array([lo]), LAT, LON, refraction=True)[0][0]
+    a = np.radians(azimuth_deg)
+    cx, cy = P[0] + distance_m * np.sin(a), P[1] + distance_m * np.cos(a)
+    top = P[2] + distance_m * np.tan(np.radians(elev + above_deg))
+    foot = 0.0 if below_deg is None else P[2] + distance_m * np.tan(np.radians(elev - below_deg))
+    x0, x1, y0, y1, z0 = cx - half, cx + half, cy - half, cy + half, foot
+    faces = [[(x0, y0, z0), (x1, y0, z0), (x1, y0, top), (x0, y0, top)], [(x1, y0, z0), (x1, y1, z0), (x1, y1, top), (x1, y0, top)],
+             [(x1, y1, z0), (x0, y1, z0), (x0, y1, top), (x1, y1, top)], [(x0, y1, z0), (x0, y0, z0), (x0, y0, top), (x0, y1, top)],
+             [(x0, y0, top), (x1, y0, top), (x1, y1, top), (x0, y1, top)], [(x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)]]
+    lo3, hi3 = np.array([x0, y0, z0]), np.array([x1, y1, top])
+
+    def clear(v):  # slab test of the ray from P against the post's box
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t1, t2 = (lo3 - P) / v, (hi3 - P) / v
+        tmin = np.nanmax(np.minimum(t1, t2), axis=1)
+        tmax = np.nanmin(np.maximum(t1, t2), axis=1)
+        return ~(tmax >= np.maximum(tmin, 0.0))
+
+    return faces, clear
+
+
+@pytest.mark.parametrize("above, below", [(1.5, None), (20.0, 1.5)])
+def test_a_post_whose_end_just_clears_the_sun_is_searched(tmp_path, above, below):
+    """A post 10 m south-south-east of P (azimuth 150 deg), its top 1.5 deg above the sun's path there (or
+    a box hanging from 20 deg above it to 1.5 deg below), on 21 March at 52 N: the sun passes behind it
+    for a few minutes. The edges' declinations reach past the sun's by about 1 deg only, under the band's
+    slack (3.8 deg, OMEGA_BOUND x KNOT_S): still searched. Hours and the gap against the brute force of
+    tests/test_sunlight_exact.py (pvlib's sun every second)."""
+    import test_sunlight_exact as tse
+
+    faces, clear = _post_behind_the_sun("03-21", 150.0, 10.0, above, 0.15, below)
+    truth = tse.brute_force_hours("03-21", clear)
+    open_ = tse.brute_force_hours("03-21", lambda v: np.ones(len(v), bool))
+    assert 60.0 < (open_ - truth) * 3600 < 1800.0  # the post hides the sun for minutes
+    _, r = tse.built_with(tmp_path, faces, "post", "03-21")
+    assert abs(r.hours[0] - truth) * 3600 <= tse.DAY_S
+    assert len(r.intervals[0]) == 2  # the gap behind the post
