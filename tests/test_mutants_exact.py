@@ -207,10 +207,30 @@ def test_hour_angle_windows_by_hand(lat, north):
         open_ = hi[0] > lo[0]
         assert open_.sum() == 1
         assert (lo[0][open_][0], hi[0][open_][0]) == pytest.approx((36000.0 - slack, 46800.0 + slack), abs=1e-3)
-    # clipped to the day's span
-    lo, hi = exact._hour_angle_windows(sp, pole, u[None], v[None], np.array([40000.0]), np.array([86400.0]))
-    open_ = hi[0] > lo[0]
-    assert (lo[0][open_][0], hi[0][open_][0]) == pytest.approx((40000.0, 46800.0 + slack), abs=1e-3)
+    # clipped to the day's span; a day starting 70 s before the window's end (inside the slack); a day
+    # from noon to noon, which meets the window of that turn and of the next; the third of three days
+
+    def windows(a, b, spline=sp):
+        lo, hi = exact._hour_angle_windows(spline, pole, u[None], v[None], np.array([a]), np.array([b]))
+        open_ = hi[0] > lo[0]
+        return sorted(zip(lo[0][open_].tolist(), hi[0][open_].tolist()))
+
+    assert _flat_pairs(windows(40000.0, 86400.0)) == pytest.approx([40000.0, 46800.0 + slack], abs=1e-3)
+    assert _flat_pairs(windows(46850.0, 86400.0)) == pytest.approx([46850.0, 46800.0 + slack], abs=1e-3)
+    sp3 = exact.SunSpline(path, 0.0, 3 * 86400.0, north)
+    assert _flat_pairs(windows(43200.0, 129600.0, sp3)) == pytest.approx(
+        [43200.0, 46800.0 + slack, 122400.0 - slack, 129600.0], abs=1e-3)
+    assert _flat_pairs(windows(172800.0, 259200.0, sp3)) == pytest.approx(
+        [172800.0 + 36000.0 - slack, 172800.0 + 46800.0 + slack], abs=1e-3)
+    if lat == 52.0:  # the fifteenth of fifteen days: the hour angle has turned 14 times since the start
+        sp15 = exact.SunSpline(path, 0.0, 15 * 86400.0, north)
+        d14 = 14 * 86400.0
+        assert _flat_pairs(windows(d14, d14 + 86400.0, sp15)) == pytest.approx(
+            [d14 + 36000.0 - slack, d14 + 46800.0 + slack], abs=1e-3)
+
+
+def _flat_pairs(pairs):
+    return [x for pair in pairs for x in pair]
 
 
 # --- an edge whose band of declinations only just reaches the sun's ----------------------------------
@@ -265,3 +285,33 @@ def test_a_post_whose_end_just_clears_the_sun_is_searched(tmp_path, above, below
     _, r = tse.built_with(tmp_path, faces, "post", "03-21")
     assert abs(r.hours[0] - truth) * 3600 <= tse.DAY_S
     assert len(r.intervals[0]) == 2  # the gap behind the post
+
+
+def test_merge_runs_of_three_and_runs_on_a_later_day():
+    # day 0: [0, 1], [1, 2], [2, 3] seen: one run [0, 3]; day 1: [10, 11], [11, 12] seen: one run [10, 12]
+    t_c = np.array([0.0, 1.0, 2.0, 3.0, 10.0, 11.0, 12.0])
+    d_c = np.array([0, 0, 0, 0, 1, 1, 1])
+    err = np.array([0.5, 0.0, 0.0, 0.25, 0.125, 0.0, 2.0])
+    iv, e = exact._merge(t_c, err, d_c, np.array([0, 1, 2, 4, 5]), np.ones(5, bool), 2)
+    assert iv[0].tolist() == [[0.0, 3.0]] and iv[1].tolist() == [[10.0, 12.0]]
+    assert e.tolist() == [0.75, 2.125]
+
+
+def test_min_altitude_glimpse_inside_one_knot_piece():
+    """A stand-in sun peaking at 30 deg at 21900 s, mid-way between knots (21600 and 22200 s), and a minimum
+    altitude of 29.999 deg: above it for 2 acos(29.999 / 30) / W = 225 s, both ends of the knot piece below.
+    The bound on |f''| (OMEGA_BOUND^2 on the sine of the elevation) makes the piece undecided until split:
+    both crossings are found, each within the tolerance."""
+    def path(t):
+        t = np.asarray(t, float)
+        return 30.0 * np.sin(W * (t - 300.0)), np.degrees(W * t) % 360.0
+
+    sp = exact.SunSpline(path, 0.0, 86400.0, 0.0)
+    assert 21600.0 in sp.t0 + sp.h * np.arange(len(sp.s)) and 22200.0 in sp.t0 + sp.h * np.arange(len(sp.s))
+    k, lo, hi, simple = exact._min_altitude_roots(sp, path, np.array([0.0]), np.array([86400.0]), 29.999, 1e-3)
+    d = np.arccos(29.999 / 30.0) / W
+    want = [21900.0 - d, 21900.0 + d]
+    order = np.argsort(lo)
+    assert len(lo) == 2 and simple.all()
+    assert np.all(lo[order] <= np.array(want) + 1e-9) and np.all(hi[order] >= np.array(want) - 1e-9)
+    assert np.all(hi - lo <= 1e-3)
