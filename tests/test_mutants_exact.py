@@ -315,3 +315,46 @@ def test_min_altitude_glimpse_inside_one_knot_piece():
     assert len(lo) == 2 and simple.all()
     assert np.all(lo[order] <= np.array(want) + 1e-9) and np.all(hi[order] >= np.array(want) - 1e-9)
     assert np.all(hi - lo <= 1e-3)
+
+
+def test_seen_takes_the_spas_elevation_near_the_minimum_altitude_low_down():
+    """_seen decides 'up' from the spline's elevation, except where that is under SPLINE_MIN_ELEVATION_DEG
+    (10) and within 1 deg of the minimum altitude: there from the SPA itself. A stand-in spline at a constant
+    elevation and a stand-in SPA that says otherwise (elevation 10.5, azimuth 5 deg) show which is used."""
+    from types import SimpleNamespace
+
+    one = SimpleNamespace(seen_along=lambda d, up: up.copy())  # seen wherever up
+
+    def spa(t):
+        return np.full(len(t), 10.5), np.full(len(t), 5.0)
+
+    tm = np.array([3600.0, 7200.0])
+    for elev, min_alt, want in ((9.5, 10.0, True),    # near: the SPA's 10.5 >= 10
+                                (8.5, 10.0, False),   # 1.5 deg under: the spline's 8.5
+                                (9.5, 9.0, True),     # the spline's 9.5 >= 9, the SPA's too
+                                (10.5, 10.4, True),   # at or over 10 deg: the spline's own
+                                (10.2, 10.6, False)):
+        def path(t, e=elev):
+            t = np.asarray(t, float)
+            return np.full(len(t), e), np.degrees(W * t) % 360.0
+
+        sp = exact.SunSpline(path, 0.0, 86400.0, 0.0)
+        assert exact._seen(one, sp, spa, tm, min_alt).tolist() == [want, want], (elev, min_alt)
+
+
+def test_root_brackets_keep_a_piece_whose_dip_the_curvature_bound_allows():
+    """f = K/2 (t - 5)^2 - (K w^2 / 8 - m) on one piece [0, 10] (w = 10), |f''| = K: f(0) = f(w) = m > 0
+    with m = K w^2 / 8.5, under the bound's K w^2 / 8, so the piece may hold roots and is split; it does,
+    at 5 +- sqrt(2 (K w^2 / 8 - m) / K)."""
+    k_, w = 0.02, 10.0
+    m = k_ * w * w / 8.5
+    dip = k_ * w * w / 8 - m
+
+    def values(key, t, pc):
+        return 0.5 * k_ * (t - 5.0) ** 2 - dip
+
+    key, lo, hi, simple = exact.root_brackets(values, lambda kk, pc: np.full(len(kk), k_), np.array([0]), np.array([0.0]),
+                                              np.array([w]), 1e-6, w)
+    r = np.sqrt(2 * dip / k_)
+    assert len(lo) == 2 and simple.all()
+    assert np.sort(0.5 * (lo + hi)) == pytest.approx([5.0 - r, 5.0 + r], abs=1e-6)
