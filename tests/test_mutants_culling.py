@@ -236,6 +236,9 @@ def test_cull_of_faces_nearly_opposite_and_on_the_slack():
     mid = wide[1] + wide[2]
     assert np.degrees(np.arcsin(mid @ POLE52 / np.linalg.norm(mid))) == pytest.approx(-86.4, abs=0.1)
     assert _cull([wide], _dec_dir(80.0, 0.0), band=(np.sin(np.radians(-89.0)), np.sin(np.radians(-85.0)))) == [0]
+    # a sliver from declination 80 to its far second corner at -70 (156 deg away), its third corner by the first
+    sliver = np.array([_dec_dir(80.0, 0.0), _dec_dir(-70.0, -80.0), _dec_dir(79.0, 2.0)]) * 10.0
+    assert _cull([sliver], _dec_dir(80.0, 0.0), band=(np.sin(np.radians(-75.0)), np.sin(np.radians(-65.0)))) == [0]
     low = np.array([_alt_dir(20.0, 180.0), _alt_dir(-60.0, 170.0), _alt_dir(-60.0, 190.0)]) * 10.0
     assert _cull([low], _alt_dir(0.0, 180.0), sin_alt=np.sin(np.radians(30.0))) == []
     assert _cull([low], _alt_dir(0.0, 180.0), sin_alt=np.sin(np.radians(19.0))) == [0]
