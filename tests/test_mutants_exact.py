@@ -126,6 +126,10 @@ def test_pole_vector_by_hand():
     assert np.allclose(exact.pole_vector(52.0, 90.0), [c, 0.0, s])
     c, s = np.cos(np.radians(33.0)), np.sin(np.radians(33.0))
     assert np.allclose(exact.pole_vector(-33.0, 0.0), [0.0, -c, s])
+    # near the equator the north pole stands just above the northern horizon; on it, the northern horizon
+    c, s = np.cos(np.radians(0.5)), np.sin(np.radians(0.5))
+    assert np.allclose(exact.pole_vector(0.5, 0.0), [0.0, c, s]) and np.allclose(exact.pole_vector(-0.5, 0.0), [0.0, -c, s])
+    assert np.allclose(exact.pole_vector(0.0, 0.0), [0.0, 1.0, 0.0])
 
 
 def test_min_altitude_crossings_of_a_sine_day():
