@@ -256,3 +256,14 @@ def test_cull_of_faces_nearly_opposite_and_on_the_slack():
     # corner 0 at 10 deg, the farthest corner 1 straight above it at 30 deg: the cap reaches 30 deg exactly
     cap = np.array([_alt_dir(10.0, 180.0), _alt_dir(30.0, 180.0), _alt_dir(11.0, 180.5)]) * 10.0
     assert _cull([cap], n, sin_alt=np.sin(np.radians(30.0) + 0.5 * s)) == [0]
+
+
+def test_spherical_extent_of_several_triangles_at_once():
+    """Each triangle of a batch on its own: one holding +z (top 1), one holding -z (bottom -1), one beside."""
+    up = [[1.0, 0.0, 1.0], [-1.0, 1.0, 1.0], [-1.0, -1.0, 1.0]]
+    down = [[1.0, 0.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, -1.0]]
+    side = [[1.0, 0.0, 0.0], [1.0, 0.1, 0.0], [1.0, 0.0, 0.1]]
+    lo, hi = culling.spherical_extent(np.array([up, down, side]), np.array([0.0, 0.0, 1.0]))
+    assert hi[0] == 1.0 and lo[1] == -1.0
+    assert lo.tolist()[0] == pytest.approx(1 / np.sqrt(3), abs=1e-12) and hi.tolist()[1] == pytest.approx(-1 / np.sqrt(3), abs=1e-12)
+    assert lo[2] == pytest.approx(0.0, abs=1e-12) and hi[2] == pytest.approx(0.1 / np.hypot(1.0, 0.1), abs=1e-12)

@@ -362,3 +362,8 @@ def test_root_brackets_keep_a_piece_whose_dip_the_curvature_bound_allows():
     r = np.sqrt(2 * dip / k_)
     assert len(lo) == 2 and simple.all()
     assert np.sort(0.5 * (lo + hi)) == pytest.approx([5.0 - r, 5.0 + r], abs=1e-6)
+
+
+def test_union_of_no_points():
+    iv, err = exact.union_intervals([], [], 3)
+    assert [x.shape for x in iv] == [(0, 2)] * 3 and err.tolist() == [0.0, 0.0, 0.0]
