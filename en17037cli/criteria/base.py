@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import Room, Scene
@@ -70,6 +71,18 @@ class Criterion(ABC):
     @abstractmethod
     def plan(self, ctx: Context, room: Room) -> Any:
         """What the criterion will compute for ``room`` (viewpoints, say); ``size(plan)`` counts it."""
+
+    def unplannable(self, ctx: Context) -> dict[str, str]:
+        """The rooms (with no problem of their own) whose :meth:`plan` says they cannot be
+        assessed: room name -> reason, for :meth:`check_inputs`."""
+        out = {}
+        for room in ctx.scene.rooms:
+            if room.problem is None:
+                try:
+                    self.plan(ctx, room)
+                except NotAssessable as exc:
+                    out[room.name] = str(exc)
+        return out
 
     def size(self, plan) -> int:
         """Units of work of a plan, for a progress bar."""

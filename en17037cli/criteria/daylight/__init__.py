@@ -20,7 +20,7 @@ import numpy as np
 from en17037cli.criteria.base import Context, Criterion
 from en17037cli.criteria.daylight.assess import daylight_factor_room, reference_plane
 from en17037cli.criteria.daylight.results import DaylightResult
-from en17037cli.errors import InputError, NotAssessable
+from en17037cli.errors import InputError
 from en17037cli.project.settings import DaylightSettings, Project
 from en17037cli.scene.model import room_window_group
 
@@ -49,14 +49,7 @@ class DaylightCriterion(Criterion):
 
         binpath()  # the extra is installed, or an input error saying how
         self.median(ctx)  # the weather file reads
-        out = {}
-        for room in ctx.scene.rooms:
-            if room.problem is None:
-                try:
-                    self.plan(ctx, room)
-                except NotAssessable as exc:
-                    out[room.name] = str(exc)
-        return out
+        return self.unplannable(ctx)
 
     def plan(self, ctx: Context, room):
         plans = ctx.cache.setdefault("daylight_plans", {})

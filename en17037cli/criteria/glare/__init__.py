@@ -39,7 +39,7 @@ class GlareCriterion(Criterion):
 
     def check_inputs(self, ctx: Context) -> dict[str, str]:
         from en17037cli.criteria.daylight.radiance import binpath
-        from en17037cli.errors import InputError, NotAssessable
+        from en17037cli.errors import InputError
 
         try:
             binpath()  # the extra is installed, or an input error saying how
@@ -47,14 +47,7 @@ class GlareCriterion(Criterion):
             raise InputError("glare: the glare check needs Radiance through pyradiance: pip install 'en17037cli[daylight]'; "
                              "or remove the glare section") from None
         self.weather(ctx)  # the weather file reads
-        out = {}
-        for room in ctx.scene.rooms:
-            if room.problem is None:
-                try:
-                    self.plan(ctx, room)
-                except NotAssessable as exc:
-                    out[room.name] = str(exc)
-        return out
+        return self.unplannable(ctx)
 
     def plan(self, ctx: Context, room):
         from en17037cli.criteria.glare.positions import room_views

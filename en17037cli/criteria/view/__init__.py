@@ -15,7 +15,6 @@ from en17037cli.criteria.view.report import view_section
 from en17037cli.criteria.view.results import ViewResult
 from en17037cli.criteria.view.surroundings import no_landscape, sparse_surroundings
 from en17037cli.criteria.view.viewpoints import viewpoints
-from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Project, ViewSettings
 from en17037cli.scene.model import Scene, room_window_group
 
@@ -63,14 +62,7 @@ class ViewCriterion(Criterion):
         return plans[room.name]
 
     def check_inputs(self, ctx: Context) -> dict[str, str]:
-        out = {}
-        for room in ctx.scene.rooms:
-            if room.problem is None:
-                try:
-                    self.plan(ctx, room)
-                except NotAssessable as exc:
-                    out[room.name] = str(exc)
-        return out
+        return self.unplannable(ctx)
 
     def size(self, plan) -> int:
         groups, _ = plan
