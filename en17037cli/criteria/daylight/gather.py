@@ -164,17 +164,13 @@ def reflected(octree, points: np.ndarray, sky_lx: float, s: GatherSettings, fram
         sq[todo] += (y * y).sum(axis=1)
         count[todo] += k
         lit[todo] += (y > 0).sum(axis=1)
-        mean = total[todo] / count[todo]
-        var = np.maximum(sq[todo] / count[todo] - mean * mean, 0.0) * count[todo] / np.maximum(count[todo] - 1, 1)
-        half = Z995 * np.sqrt(var / count[todo])
+        mean, half = _interval(total[todo], sq[todo], count[todo])
         done = ((half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)) & ((lit[todo] >= MIN_LIT) | (lit[todo] == count[todo]))
                 | (2 * count[todo] > s.max_rays))
         todo = todo[~done]
         n = int(round(np.sqrt(count[todo].max()))) if len(todo) else n  # as many again: n x n new strata
         rnd += 1
-    mean = total / count
-    var = np.maximum(sq / count - mean * mean, 0.0) * count / np.maximum(count - 1, 1)
-    half = Z995 * np.sqrt(var / count)
+    mean, half = _interval(total, sq, count)
     # few lit samples: at least what a Poisson 99.5 % upper bound on their count allows, at Y_MAX each
     few = (lit < MIN_LIT) & (lit < count)
     half = np.where(few, np.maximum(half, Y_MAX * (3.0 * np.sqrt(lit + 1.0) + 3.0) / count), half)
@@ -216,9 +212,7 @@ def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSetti
         sq[todo] += (y * y).sum(axis=1)
         count[todo] += k
         lit[todo] += touched.reshape(len(todo), k).sum(axis=1)
-        mean = total[todo] / count[todo]
-        var = np.maximum(sq[todo] / count[todo] - mean * mean, 0.0) * count[todo] / np.maximum(count[todo] - 1, 1)
-        half = Z995 * np.sqrt(var / count[todo])
+        mean, half = _interval(total[todo], sq[todo], count[todo])
         trusted = (lit[todo] >= MIN_LIT) | (lit[todo] == 0)
         precise = half <= np.maximum(s.rel_tolerance * np.abs(mean), s.abs_tolerance)
         if known is not None and len(thresholds):
@@ -233,11 +227,17 @@ def reflected_paths(S, octree, points: np.ndarray, sky_lx: float, s: GatherSetti
     return _result(total, sq, count, lit)
 
 
-def _result(total, sq, count, lit) -> Reflected:
-    """Means and 99 % intervals of the samples' sums (see the module docstring)."""
+def _interval(total, sq, count) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and 99 % half-interval z(0.995) s / sqrt(N) of samples from their sums ``total``, sums of
+    squares ``sq`` and counts ``count`` (s: the unbiased standard deviation; see the module docstring)."""
     mean = total / count
     var = np.maximum(sq / count - mean * mean, 0.0) * count / np.maximum(count - 1, 1)
-    half = Z995 * np.sqrt(var / count)
+    return mean, Z995 * np.sqrt(var / count)
+
+
+def _result(total, sq, count, lit) -> Reflected:
+    """Means and 99 % intervals of the samples' sums (see the module docstring)."""
+    mean, half = _interval(total, sq, count)
     few = (lit < MIN_LIT) & (lit > 0)
     half = np.where(few, np.maximum(half, Y_MAX * (3.0 * np.sqrt(lit + 1.0) + 3.0) / count), half)
     return Reflected(mean, half, count.astype(int))
