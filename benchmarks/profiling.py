@@ -23,24 +23,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from goals import seed_without_daylight  # benchmarks/goals.py: the same project the goals time
+
 ROOT = Path(__file__).resolve().parent.parent
-SEED = ROOT / "sample_projects" / "seed-office" / "project.yaml"
 PAPER = ROOT / "sample_projects" / "seed-office" / "project-paper-grid.yaml"
-
-
-def seed_without_daylight(directory: Path) -> Path:
-    """The seed office's project without its daylight section (and requirement), written to
-    ``directory`` with the geometry's paths made absolute."""
-    import yaml
-
-    doc = yaml.safe_load(SEED.read_text())
-    doc.pop("daylight", None)
-    doc.get("requirements", {}).pop("daylight", None)
-    for f in doc["model"]["files"]:
-        f["path"] = str((SEED.parent / f["path"]).resolve())
-    path = directory / "seed-office-view-sunlight.yaml"
-    path.write_text(yaml.safe_dump(doc, sort_keys=False))
-    return path
 
 
 def profile_check(project: Path, out: Path, pictures: bool = True) -> tuple[cProfile.Profile, float, float]:
