@@ -183,7 +183,7 @@ def match_windows(scene: Scene, margin_m: float) -> list[WindowSpaces]:
         cand = [int(i) for i in np.flatnonzero(near)]
         out.append(_match_one(scene, w, cand, [bodies[i] for i in cand], named.get(w.key, set()) if w.key else set(),
                               margin_m, spaces))
-        if not out[-1].spaces and out[-1].why.startswith(NO_SPACE):  # what lies under it, if a space does
+        if not out[-1].spaces and not out[-1].distance:  # no space met on either side: what lies under it, if any
             under = has & np.all(blo[:, :2] <= whi[k, :2] + margin_m, axis=1) & np.all(bhi[:, :2] >= wlo[k, :2] - margin_m, axis=1) \
                 & (bhi[:, 2] <= wlo[k, 2] + 1e-6) & (bhi[:, 2] >= wlo[k, 2] - UNDER_M)
             if under.any():
@@ -194,8 +194,6 @@ def match_windows(scene: Scene, margin_m: float) -> list[WindowSpaces]:
     return out
 
 
-#: How a window in no space begins to say why (:func:`_match_one`).
-NO_SPACE = "no space of the model lies within"
 #: A space whose top lies up to this far under a window in no space is named as the one below it [m].
 UNDER_M = 2.0
 
@@ -269,7 +267,7 @@ def _match_one(scene: Scene, w: Window, cand: list[int], bodies: list, named: se
         res.why = (f"the nearest space, '{room_name(spaces[i])}', lies {dist:.2f} m from its glazing, more than the "
                    f"{allowed:.2f} m its host allows{wall}: it opens into no space of the model")
     else:
-        res.why = (f"{NO_SPACE} {margin_m:g} m of its glazing on either side (spaces missing "
+        res.why = (f"no space of the model lies within {margin_m:g} m of its glazing on either side (spaces missing "
                    "from the model, or the window outside every storey's spaces)")
     return res
 

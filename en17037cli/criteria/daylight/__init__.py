@@ -153,7 +153,10 @@ class DaylightCriterion(Criterion):
         if sky is None or not self._settings(ctx).radiance.stop_clear_of_thresholds:
             known = None
         elif callable(sky):  # computed in another thread meanwhile
-            known = lambda: (lambda sc: (sc.value, sc.bound))(sky())  # noqa: E731
+
+            def known():
+                sc = sky()
+                return sc.value, sc.bound
         else:
             known = (sky.value, sky.bound)
         return reflected_paths(self.paths_scene(ctx, room), self.octree(ctx), points, SKY_LX, self.gather_settings(ctx),
