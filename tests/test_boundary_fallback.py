@@ -18,20 +18,13 @@ import yaml
 from en17037cli.project import load_project
 from en17037cli.scene import build_scene
 from en17037cli.scene.spaces import windows_in_no_room
+from tests.ifc_box import box_shell
 
 pytest.importorskip("ifcopenshell")
 
 
 def model(path: Path, name_east: bool) -> Path:
-    from en17037cli.samples.ifc import Builder
-
-    b = Builder("IFC4")
-    st = b.storey("Ground", 0.0)
-    b.locate(52.0, 4.36, 0.0)
-    foot = [(0, 0), (6.6, 0), (6.6, 5.6), (0, 5.6)]
-    b.slab("Floor", st, foot, -0.2, 0.2)
-    b.slab("Roof", st, foot, 2.7, 0.2)
-    walls = [b.wall(f"Wall {k}", st, *p, *q, 0.0, 2.7) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
+    b, st, walls = box_shell()
     room = b.space("R1", "Room", st, [(0.3, 0.3), (6.3, 0.3), (6.3, 2.5), (0.3, 2.5)], 0.0, 2.7)  # drawn short
     b.window("W south", st, walls[0], (3.3, 0.0, 1.5), (0, -1, 0), (1, 0, 0), 2.0, 1.4, spaces=[room])
     b.window("W east", st, walls[1], (6.6, 3.8, 1.5), (1, 0, 0), (0, 1, 0), 1.2, 1.2, spaces=[room] if name_east else [])

@@ -29,6 +29,7 @@ from en17037cli import pipeline
 from en17037cli.cli import cli
 from en17037cli.project import load_project
 from en17037cli.scene import build_scene
+from tests.ifc_box import box_shell
 
 pytest.importorskip("ifcopenshell")
 ROOT = Path(__file__).resolve().parents[1]
@@ -44,15 +45,7 @@ def one_room(path: Path, *, glass: str = "glass", railing: bool = False, name_bo
     ``name_both``: space boundaries for both windows (else the south one only), ``uncut``: an
     extra window whose glass lies on the west wall's outer face with no opening, ``store``: a
     windowless second space, ``frames_only``: windows with no glass at all."""
-    from en17037cli.samples.ifc import Builder
-
-    b = Builder(schema)
-    st = b.storey("Ground", 0.0)
-    b.locate(52.0, 4.36, 0.0)
-    foot = [(0, 0), (6.6, 0), (6.6, 5.6), (0, 5.6)]
-    b.slab("Floor", st, foot, -0.2, 0.2)
-    b.slab("Roof", st, foot, 2.7, 0.2)
-    walls = [b.wall(f"Wall {k}", st, *p, *q, 0.0, 2.7) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
+    b, st, walls = box_shell(schema)
     room = b.space("R1", "Room", st, [(WALL, WALL), (6.3, WALL), (6.3, 5.3), (WALL, 5.3)], 0.0, 2.7)
     if store:
         b.space(*store_name, st, [(10, 10), (12, 10), (12, 12), (10, 12)], 0.0, 2.7)
@@ -268,15 +261,7 @@ def test_two_windows_of_one_name_keep_their_own_point_p(tmp_path):
     """Two IfcWindows both named 'Fenster' (ArchiCAD 11 names a hall's two windows alike) on the
     room's south and east walls: told apart by their GlobalIds in every report, and each P on the
     room-side face of its own wall, within its own window's width: never the other's."""
-    from en17037cli.samples.ifc import Builder
-
-    b = Builder("IFC4")
-    st = b.storey("Ground", 0.0)
-    b.locate(52.0, 4.36, 0.0)
-    foot = [(0, 0), (6.6, 0), (6.6, 5.6), (0, 5.6)]
-    b.slab("Floor", st, foot, -0.2, 0.2)
-    b.slab("Roof", st, foot, 2.7, 0.2)
-    walls = [b.wall(f"Wall {k}", st, *p, *q, 0.0, 2.7) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
+    b, st, walls = box_shell()
     room = b.space("R1", "Hall", st, [(WALL, WALL), (6.3, WALL), (6.3, 5.3), (WALL, 5.3)], 0.0, 2.7)
     for name, wall, centre, n, u in (("W a", walls[0], (3.3, 0.0, 1.5), (0, -1, 0), (1, 0, 0)),
                                      ("W b", walls[1], (6.6, 2.8, 1.5), (1, 0, 0), (0, 1, 0))):

@@ -34,6 +34,7 @@ from click.testing import CliRunner
 from en17037cli.cli import cli
 from en17037cli.project import load_project
 from en17037cli.scene import build_scene
+from tests.ifc_box import box_shell
 
 pytest.importorskip("ifcopenshell")
 SUN = {"date": "03-21", "period": {"start": "03-21", "end": "03-21"}}
@@ -57,15 +58,7 @@ def glazed(b, st, name: str):
 
 
 def house(path: Path, case: str) -> Path:
-    from en17037cli.samples.ifc import Builder
-
-    b = Builder("IFC4")
-    st = b.storey("Ground", 0.0)
-    b.locate(52.0, 4.36, 0.0)
-    foot = [(0, 0), (6.6, 0), (6.6, 5.6), (0, 5.6)]
-    b.slab("Floor", st, foot, -0.2, 0.2)
-    b.slab("Roof", st, foot, 2.7, 0.2)
-    walls = [b.wall(f"Wall {k}", st, *p, *q, 0.0, 2.7) for k, (p, q) in enumerate(zip(foot, foot[1:] + foot[:1]))]
+    b, st, walls = box_shell()
     room = b.space("R1", "Room", st, [(0.3, 0.3), (6.3, 0.3), (6.3, 5.3), (0.3, 5.3)], 0.0, 2.7)
     if case in ("cut", "neighbour", "lining"):
         b.window("W", st, walls[0], CENTRE, S, X, 1.2, 1.2, spaces=[room])
