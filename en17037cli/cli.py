@@ -29,4 +29,16 @@ for _command in (check, validate, study, batch, compare, schema):
 
 
 def main():
-    cli(prog_name="en17037")
+    """The console command. SIGTERM ends it like Ctrl-C from its first line on; an interrupted run
+    ends as soon as its own cleanup has run (temporary folders removed, picture workers ended),
+    without waiting for the engine's threads to finish the chunk they trace
+    (:func:`~en17037cli.commands.errors.exit_now`)."""
+    from en17037cli.commands.errors import INTERRUPTED, exit_now, exit_on_sigterm
+
+    exit_on_sigterm()
+    try:
+        cli(prog_name="en17037")
+    except SystemExit as exc:
+        if exc.code in INTERRUPTED:
+            exit_now(exc.code)
+        raise

@@ -250,7 +250,7 @@ class Session:
             groups = [g for c in self.chosen for g in c.ray_groups(self.scene)]
             self.engine.prepare(list(dict.fromkeys(groups)))  # built once, shared by every criterion and room
         except BaseException:
-            self.engine.close()
+            self.engine.close(wait=False)
             raise
         self.preflight_rays = self.engine.rays_traced
         self.timer.stage("build")
@@ -259,11 +259,12 @@ class Session:
     def __enter__(self) -> Session:
         return self
 
-    def __exit__(self, *exc) -> None:
-        self.close()
+    def __exit__(self, exc_type, *exc) -> None:
+        self.close(wait=exc_type is None)
 
-    def close(self) -> None:
-        self.engine.close()
+    def close(self, wait: bool = True) -> None:
+        """End the engine's threads (``wait``: for the chunks they trace; not when an exception ends the run)."""
+        self.engine.close(wait)
 
     @property
     def room_names(self) -> list[str]:

@@ -183,12 +183,16 @@ class RayEngine:
     def __enter__(self) -> RayEngine:
         return self
 
-    def __exit__(self, *exc) -> None:
-        self.close()
+    def __exit__(self, exc_type, *exc) -> None:
+        self.close(wait=exc_type is None)
 
-    def close(self) -> None:
+    def close(self, wait: bool = True) -> None:
+        """End the threads. Tasks still queued are cancelled (a run interrupted by Ctrl-C or SIGTERM
+        while :meth:`map_tasks` had a building's worth of tasks queued waited for all of them, tens
+        of seconds: issue 43); ``wait``: for the ones running to finish their chunk (False when an
+        exception ends the run: it does not need their answers)."""
         if self._pool is not None:
-            self._pool.shutdown()
+            self._pool.shutdown(wait=wait, cancel_futures=True)
             self._pool = None
 
     def add_group(self, name: str, faces: np.ndarray | Callable[[], np.ndarray]) -> None:

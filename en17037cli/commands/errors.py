@@ -57,6 +57,24 @@ class Group(click.Group):
         sys.exit(code or 0)
 
 
+#: Exit codes of a run ended by a signal: Ctrl-C (SIGINT) and SIGTERM (128 + the signal's number).
+INTERRUPTED = (130, 143)
+
+
+def exit_now(code: int):
+    """End the process with ``code`` now: its output flushed, its cleanup done (the exception that
+    stopped the run has unwound every ``with`` and ``finally``), but no wait for the threads of a
+    pool to finish what they are tracing, which ``sys.exit`` would do at the interpreter's end."""
+    import os
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe: nothing left to say
+            pass
+    os._exit(code)
+
+
 def exit_on_sigterm():
     """SIGTERM ends the run like Ctrl-C does: cleanup runs, exit code 143 (128 + 15)."""
     import signal

@@ -2,7 +2,7 @@
 ``glare`` sections; and the section that reads sunlight (5.3) and glare (5.4) together."""
 from __future__ import annotations
 
-from en17037cli.report.labels import STATUS_LABEL, assessed
+from en17037cli.report.labels import STATUS_LABEL, assessed, md
 from en17037cli.report.numbers import fmt_duration
 
 
@@ -117,7 +117,7 @@ def glare_markdown(room: dict, figures, md_table) -> list[str]:
     both = together_text(room)
     if both:
         L += [both, ""]
-    L += [x for f in figures if f.section == "glare" for x in (f"![{f.caption}]({f.name})", f"*{f.caption}*", "")]
+    L += [x for f in figures if f.section == "glare" for x in (f"![{md(f.caption)}]({f.name})", f"*{md(f.caption)}*", "")]
     return L
 
 

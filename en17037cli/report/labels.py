@@ -24,3 +24,28 @@ REPAIR_WORDS = ("could not be fully triangulated", "faces dropped", "vertices dr
 def is_repair(warning: str) -> bool:
     """Whether a warning reports a repair of the geometry as read (:data:`REPAIR_WORDS`)."""
     return any(w in warning for w in REPAIR_WORDS)
+
+
+#: Characters that mean something to Markdown anywhere in a line (CommonMark and GitHub's:
+#: emphasis, code, links and images, tables, HTML, entities, strikethrough, mathematics), escaped
+#: with a backslash in text from a model; and those that do at the start of a block (headings,
+#: quotes, lists, setext underlines).
+_MD_SPECIAL = frozenset("\\`*_[]<|&$~")
+_MD_LEADING = frozenset("#>+-=")
+
+
+def md(text) -> str:
+    """``text`` as literal Markdown: names and sentences that carry names from a model (any Unicode,
+    ``$``, ``\\``, ``_``, ``*``, ``|``, ``<``...) read back as written, never as markup (issue 43).
+    CommonMark lets any ASCII punctuation be escaped with a backslash; line breaks become spaces so
+    that a name cannot end a table row or a list item."""
+    s = " ".join(str(text).splitlines()) if text is not None else ""
+    out = []
+    for i, c in enumerate(s):
+        # an underscore inside a word (file_name.obj) is no emphasis in CommonMark: left as written
+        inside = c == "_" and 0 < i < len(s) - 1 and s[i - 1].isalnum() and s[i + 1].isalnum()
+        # a block's first character opens a heading, list, quote or rule only before a space or its
+        # like ("- x", "# x", "> x", "---"), never in "-34.7"
+        lead = i == 0 and c in _MD_LEADING and (c == ">" or len(s) == 1 or s[1] == " " or s[1] == c)
+        out.append("\\" + c if (c in _MD_SPECIAL and not inside) or lead else c)
+    return "".join(out)

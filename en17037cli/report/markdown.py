@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from en17037cli.report.glare_text import glare_markdown, glare_parameters
-from en17037cli.report.labels import STATUS_LABEL, assessed, is_repair, unassessed
+from en17037cli.report.labels import STATUS_LABEL, assessed, is_repair, md, unassessed
 from en17037cli.report.numbers import fmt_bound, fmt_duration
 from en17037cli.report.verdicts import limit_text
 from en17037cli.standard import LEVELS
@@ -27,8 +27,8 @@ def dwellings_markdown(report: dict) -> list[str]:
             sun = d["sunlight"]
             if sun["status"] is None:
                 continue
-            who = sun["room"] if sun["status"] == "pass" else f"best: {sun['room']}, {fmt_duration(sun['shortfall_h'])} short"
-            out.append(f"| {d['name']} | {', '.join(d['rooms'])} | {who} | {fmt_duration(sun['hours_h'])} | {sun['required']} | "
+            who = md(sun["room"]) if sun["status"] == "pass" else f"best: {md(sun['room'])}, {fmt_duration(sun['shortfall_h'])} short"
+            out.append(f"| {md(d['name'])} | {md(', '.join(d['rooms']))} | {who} | {fmt_duration(sun['hours_h'])} | {sun['required']} | "
                        f"{STATUS_LABEL[sun['status']]} |")
         out.append("")
     return out
@@ -154,8 +154,13 @@ def window_rows(room: dict) -> list[list[str]]:
     return rows
 
 
+class Markup(str):
+    """A table cell that is Markdown already (not escaped by :func:`_md_table`)."""
+
+
 def _md_table(rows: list[list[str]]) -> list[str]:
-    esc = lambda c: str(c).replace("|", "\\|")  # noqa: E731
+    """A Markdown table; every cell is text (:func:`~en17037cli.report.labels.md`) but :class:`Markup` ones."""
+    esc = lambda c: c if isinstance(c, Markup) else md(c)  # noqa: E731
     return (["| " + " | ".join(map(esc, rows[0])) + " |", "|" + "---|" * len(rows[0])]
             + ["| " + " | ".join(map(esc, r)) + " |" for r in rows[1:]])
 
@@ -163,7 +168,7 @@ def _md_table(rows: list[list[str]]) -> list[str]:
 def report_markdown(report: dict, figures=()) -> str:
     """report.md: the verdict and what limits each room on top, the pictures (PNG files beside it)
     per room, the parameters and notes; the per-point values stay in the CSV files."""
-    L = [f"# EN 17037 check: {report['project']['name']}", "",
+    L = [f"# EN 17037 check: {md(report['project']['name'])}", "",
          f"Overall status: **{report['status'].upper()}** (en17037cli {report['tool']['version']}, project file "
          f"`{report['project']['file']}`).", ""]
     if report["project"].get("description"):
@@ -171,23 +176,23 @@ def report_markdown(report: dict, figures=()) -> str:
     L += dwellings_markdown(report)
     rows = verdict_rows(report)
     L += _md_table([["room", "check", "reached", "required", "result", "what limits it", "score"]]
-                   + [[r["room"], r["check"], r["reached"], r["required"], f"**{r['result']}**", r["limits"], r["score"]]
+                   + [[r["room"], r["check"], r["reached"], r["required"], Markup(f"**{r['result']}**"), r["limits"], r["score"]]
                       for r in rows])
     L += ["", "Score: 0 to 3, the level at each threshold and linear in between (beyond the standard; see docs/method.md of en17037cli).", ""]
     attention = [w for w in report["warnings"] if not is_repair(w)]
     if attention:
-        L += ["**Warnings:**", ""] + [f"- {w}" for w in attention] + [""]
+        L += ["**Warnings:**", ""] + [f"- {md(w)}" for w in attention] + [""]
     for room in report["rooms"]:
-        L += ["", f"## Room {room['name']}", ""]
+        L += ["", f"## Room {md(room['name'])}", ""]
         if room.get("problem"):
-            L += [f"Not assessable: {room['problem']}", ""]
+            L += [f"Not assessable: {md(room['problem'])}", ""]
         L += _md_table(window_rows(room)) + [""]
         pics = [f for f in figures if f.room == room["name"]]
         v = assessed(room["view"])
         if v:
             ee = v["error_estimates"]
             L += [f"**View out: {v['level']}** (required {v['required']}, {STATUS_LABEL[v['status']]}); "
-                  f"{limit_text('view', v)}.", "",
+                  f"{md(limit_text('view', v))}.", "",
                   f"Error estimates: solid angles {fmt_bound(ee['max_solid_angle_error_sr'])} sr, sight angle "
                   f"{fmt_bound(ee['max_horizontal_sight_angle_error_deg'])} deg, outside distance "
                   f"{fmt_bound(ee['max_outside_distance_error_m'])} m."]
@@ -198,18 +203,18 @@ def report_markdown(report: dict, figures=()) -> str:
                       "Every point's values: `view_points.csv`.", ""]
                 for f in pics:
                     if f.section == "view" and f"-view-{e['eye_height_m']:g}m-" in f.name:
-                        L += [f"![{f.caption}]({f.name})", f"*{f.caption}*", ""]
+                        L += [f"![{md(f.caption)}]({f.name})", f"*{md(f.caption)}*", ""]
         s = assessed(room["sunlight"])
         if s:
             hrs = [d["hours_h"] for d in s["days"]]
             L += ["", f"**Exposure to sunlight: {s['level']}** (required {s['required']}, {STATUS_LABEL[s['status']]}); "
-                  f"{limit_text('sunlight', s)}; ± {fmt_duration(s['error_estimates']['hours_error_h'])}. Over the period "
+                  f"{md(limit_text('sunlight', s))}; ± {fmt_duration(s['error_estimates']['hours_error_h'])}. Over the period "
                   f"{fmt_duration(min(hrs))} to {fmt_duration(max(hrs))} a day (every day: `sunlight_days.csv`).", ""]
-            L += [x for f in pics if f.section == "sunlight" for x in (f"![{f.caption}]({f.name})", f"*{f.caption}*", "")]
+            L += [x for f in pics if f.section == "sunlight" for x in (f"![{md(f.caption)}]({f.name})", f"*{md(f.caption)}*", "")]
         d = assessed(room.get("daylight"))
         if d:
             L += ["", daylight_paragraph(d), ""] + _md_table(daylight_table(d)) + [""]
-            L += [x for f in pics if f.section == "daylight" for x in (f"![{f.caption}]({f.name})", f"*{f.caption}*", "")]
+            L += [x for f in pics if f.section == "daylight" for x in (f"![{md(f.caption)}]({f.name})", f"*{md(f.caption)}*", "")]
         L += glare_markdown(room, pics, _md_table)
     L += ["", "## Technical notes", ""]
     files = report["inputs"].get("model_files", {})
@@ -218,5 +223,5 @@ def report_markdown(report: dict, figures=()) -> str:
     L += ["### Parameters the standard leaves open", ""] + [f"- {line}" for line in parameter_lines(report)]
     repairs = [w for w in report["warnings"] if is_repair(w)]
     if repairs or report["notes"]:
-        L += ["", "### The model as read", ""] + [f"- {n}" for n in repairs + report["notes"]]
+        L += ["", "### The model as read", ""] + [f"- {md(n)}" for n in repairs + report["notes"]]
     return "\n".join(L) + "\n"

@@ -30,6 +30,9 @@ MIN_FONT_PT = 8.0
 PRINT_SCALE = 0.69
 
 _RC: dict = {
+    # Text from a model (names, GlobalIds, whose alphabet includes "$") is data: never parsed as TeX
+    # mathematics ("$...$"), which stopped AC11-Institute's run on "...IBf$$ZaZkjsa)" (issue 43).
+    "text.parse_math": False,
     "font.family": "DejaVu Sans",
     "font.size": 8,
     "svg.hashsalt": "en17037cli",

@@ -58,6 +58,11 @@ def draw_storeys(walls_by_level: dict, rooms: list[RoomDrawing], out_dir: Path, 
     import shapely
 
     out_dir.mkdir(parents=True, exist_ok=True)
+    with matplotlib.rc_context({"text.parse_math": False}):  # room names are data, never TeX (issue 43)
+        return _draw_storeys(plt, shapely, walls_by_level, rooms, out_dir, title)
+
+
+def _draw_storeys(plt, shapely, walls_by_level: dict, rooms: list[RoomDrawing], out_dir: Path, title: str) -> list[Path]:
     written = []
     for level in sorted(walls_by_level):
         here = [r for r in rooms if abs(r.floor_z - level) < 1e-6]
