@@ -19,10 +19,17 @@ from en17037cli.scene import build_scene
 
 
 class Built:
-    """A project, its scene and a ray engine, for engine-level tests."""
+    """A project, its scene and a ray engine, for engine-level tests.
+
+    The view runs in ``view.refine: exact`` unless the overrides say otherwise: these tests hold the
+    exact mode to closed forms; tests/test_view_decided.py holds the decided mode to the exact one.
+    """
 
     def __init__(self, path, overrides=()):
-        self.project = load_project(path, list(overrides))
+        overrides = list(overrides)
+        if not any(o.startswith("view.refine=") for o in overrides):
+            overrides.append("view.refine=exact")
+        self.project = load_project(path, overrides)
         self.scene = build_scene(self.project)
         self.engine = RayEngine(self.scene.vertices, self.scene.triangles, self.scene.ray_groups())
         self.view_rays = ViewRays(self.engine, self.scene)

@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import jsonschema
 import numpy as np
 import pytest
 import yaml
@@ -29,6 +30,7 @@ from en17037cli.cli import cli
 from en17037cli.errors import InputError
 from en17037cli.project import load_project
 from en17037cli.scene import build_scene
+from en17037cli.schemas import load_schema
 
 pytest.importorskip("ifcopenshell")
 SUN = {"date": "03-21", "period": {"start": "03-21", "end": "03-21"}}
@@ -103,6 +105,7 @@ def test_a_window_drawn_on_its_wall_is_quarantined_and_its_room_withheld(tmp_pat
     assert b["status"] == "not_assessable" and b["level"] is None and "W uncut" in b["reason"]
     assert b["reason"].endswith("without them it reaches " + base["rooms"][1]["sunlight"]["level"])
     assert b["hours_h"] == base["rooms"][1]["sunlight"]["hours_h"]  # the figures are still there
+    jsonschema.validate(rep, load_schema("report"))  # a withheld section: level null, not_assessable, its figures
     (entry,) = rep["quarantined"]
     assert entry["rooms"] == ["Room B (B)"] and "layer: interior}" in entry["advice"] and "exclude: ['" in entry["advice"]
     assert any(w.startswith("quarantined: window 'W uncut'") for w in rep["warnings"])

@@ -66,11 +66,22 @@ def points_in_triangles(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
 
 def clip_halfplane(poly: np.ndarray, count: np.ndarray, axis: int, bound: np.ndarray, sign: float):
     """Sutherland-Hodgman step: keep the part of each convex polygon where sign * (x[axis] - bound) >= 0."""
+    return _clip_by(poly, count, sign * (poly[..., axis] - bound[:, None]))
+
+
+def clip_line(poly: np.ndarray, count: np.ndarray, hp: np.ndarray):
+    """Sutherland-Hodgman step: keep the part of each convex polygon (m, k, 2) with ``count``
+    vertices where a x + b y + c >= 0, ``hp`` (m, 3) its half-plane's (a, b, c)."""
+    return _clip_by(poly, count, hp[:, 0, None] * poly[..., 0] + hp[:, 1, None] * poly[..., 1] + hp[:, 2, None])
+
+
+def _clip_by(poly: np.ndarray, count: np.ndarray, s: np.ndarray):
+    """Keep the part of each convex polygon where the affine function with values ``s`` (m, k) at
+    its vertices is >= 0 (it is linear along every edge, so each crossing is interpolated)."""
     m, k, _ = poly.shape
     out = np.zeros((m, k + 1, 2))
     n_out = np.zeros(m, dtype=int)
     rows = np.arange(m)
-    s = sign * (poly[..., axis] - bound[:, None])
     for i in range(k):  # over the (at most 7) vertex slots of a polygon, not over data
         j = np.where(i + 1 < count, i + 1, 0)
         active = i < count

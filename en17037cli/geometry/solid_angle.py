@@ -125,6 +125,22 @@ def clipped_solid_angle(tri: np.ndarray, rect: np.ndarray):
     poly, count = tri.astype(float), np.full(len(tri), 3)
     for axis, col, sign in ((0, 0, 1.0), (0, 1, -1.0), (1, 2, 1.0), (1, 3, -1.0)):
         poly, count = clip_halfplane(poly, count, axis, rect[:, col], sign)
+    return polygon_solid_angle(poly, count)
+
+
+def polygon_solid_angle(poly: np.ndarray, count: np.ndarray):
+    """Solid angle and centroid of convex polygons on the plane at unit distance, in gnomonic coordinates.
+
+    Parameters
+    ----------
+    poly : (m, k, 2) float, the vertices in order (the first ``count`` of each row)
+    count : (m,) int
+
+    Returns
+    -------
+    omega : (m,) float [sr], exact (sum of Van Oosterom-Strackee fan triangles)
+    centroid : (m, 2) float, area centroid (NaN where the polygon is empty)
+    """
     m, k, _ = poly.shape
     omega = np.zeros(m)
     area = np.zeros(m)

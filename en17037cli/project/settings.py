@@ -166,6 +166,13 @@ class ViewSettings:
     mullions_block: bool = True  # members inside an opening cut the horizontal sight angle
     #: share of the horizon in front of a room's windows the model's landscape must cover to judge the layers
     surroundings_min_share: float = 0.25
+    #: how far the solid angles are refined: ``decided`` (until every level is decided and every
+    #: interval within ``tolerance``) or ``exact`` (until the error estimate meets the solid-angle
+    #: tolerances): :mod:`en17037cli.criteria.view.decide`
+    refine: str = "decided"
+    #: ``decided``: the largest half-width of a layer's solid-angle interval, as a fraction of the
+    #: windows' solid angle at the point [-]
+    tolerance: float = 0.05
 
 
 @dataclass(frozen=True)

@@ -45,7 +45,7 @@ def md(text) -> str:
         # an underscore inside a word (file_name.obj) is no emphasis in CommonMark: left as written
         inside = c == "_" and 0 < i < len(s) - 1 and s[i - 1].isalnum() and s[i + 1].isalnum()
         # a block's first character opens a heading, list, quote or rule only before a space or its
-        # like ("- x", "# x", "> x", "---"), never in "-34.7"
-        lead = i == 0 and c in _MD_LEADING and (c == ">" or len(s) == 1 or s[1] == " " or s[1] == c)
+        # like ("- x", "# x", "> x", "---"), never in "-34.7" or a lone "-"
+        lead = i == 0 and c in _MD_LEADING and (c == ">" or s[1:2] == " " or s[:3] == c * 3)
         out.append("\\" + c if (c in _MD_SPECIAL and not inside) or lead else c)
     return "".join(out)

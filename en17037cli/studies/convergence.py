@@ -79,13 +79,19 @@ class Ladder:
     levels: bool = False  # the knob counts halvings: the step size is 2^-value
 
 
+#: The view's solid angles refined to the last digit (the resolution ladders measure the exact mode).
+EXACT = {"view.refine": "exact"}
+
 LADDERS = (
     Ladder("view.angular_resolution_deg", (4.0, 2.0, 1.0, 0.5),
            {"view.angular_resolution_deg": 0.25, "view.refine_levels": 4, "view.solid_angle_rel_tolerance": 0,
-            "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground")),
+            "view.solid_angle_abs_tolerance_sr": 0, **EXACT}, ("sky", "landscape", "ground"), extra=EXACT),
     Ladder("view.refine_levels", (0, 1, 2, 3, 4),
            {"view.angular_resolution_deg": 0.25, "view.refine_levels": 4, "view.solid_angle_rel_tolerance": 0,
-            "view.solid_angle_abs_tolerance_sr": 0}, ("sky", "landscape", "ground"), levels=True),
+            "view.solid_angle_abs_tolerance_sr": 0, **EXACT}, ("sky", "landscape", "ground"), levels=True, extra=EXACT),
+    # the view by decision (issue 44): its interval's half-width against the exact mode at the project's resolution
+    Ladder("view.tolerance", (0.2, 0.1, 0.05, 0.02, 0.01), EXACT, ("sky", "landscape", "ground"),
+           extra={"view.refine": "decided"}),
     Ladder("view.horizontal_resolution_deg", (2.0, 1.0, 0.5, 0.2, 0.1), {"view.horizontal_resolution_deg": 0.02},
            ("sight_angle", "distance")),
     # the fan's bisection (view.sight_angle_method: fan; in plan the tolerance only brackets far interior
@@ -161,7 +167,7 @@ class Runner:
         res = [criterion.assess(ctx, r, plans[r.name]) for r in self.scene.rooms]  # one pass per room
         wall = time.perf_counter() - t
         if check == "view":
-            return _view_values(res), wall, self.engine.rays_traced
+            return _view_values(res, project.view.refine == "decided"), wall, self.engine.rays_traced
         if check == "daylight":
             return _daylight_values(res), wall, 0
         return {"sun_time": (np.concatenate([x.hours for x in res]) * 3600.0,
@@ -183,8 +189,10 @@ def _daylight_values(results: list) -> dict:
             "reflected": two("reflected_pct", "reflected_err_pct"), "share_of_hours": (cat(sh), cat(se))}
 
 
-def _view_values(results: list) -> dict:
-    """(values, error estimates) per view quantity, concatenated over rooms and eye heights."""
+def _view_values(results: list, intervals: bool = False) -> dict:
+    """(values, error estimates) per view quantity, concatenated over rooms and eye heights;
+    ``intervals``: a solid angle's error is the farther end of its interval (``view.refine:
+    decided``), not the exact mode's estimate."""
     vals: dict = {k: ([], []) for k in ("sky", "landscape", "ground", "sight_angle", "distance", "share_medium")}
     for res in results:
         for e in res.eye_heights:
@@ -193,7 +201,9 @@ def _view_values(results: list) -> dict:
                 continue
             for k in ("sky", "landscape", "ground"):
                 vals[k][0].append(v.solid.sr[k])
-                vals[k][1].append(v.solid.err_sr[k])
+                s = v.solid
+                vals[k][1].append(np.maximum(s.sr[k] - s.lo_sr[k], s.hi_sr[k] - s.sr[k])
+                                  if intervals and s.lo_sr is not None else s.err_sr[k])
             vals["sight_angle"][0].append(v.sight.angle_deg)
             vals["sight_angle"][1].append(v.sight.angle_err_deg)
             vals["distance"][0].append(v.distance_m)

@@ -34,7 +34,8 @@ behind_member``           window's frame lies in front of P)
 ========================  ===============================================================  ============
 
 Choices that do not change what is traced (the date, the layer threshold, the eye heights) are
-judged again from the stored values; the others run the criterion again on the same scene and
+judged again from the stored values (the view's solid angles of ``view.refine: exact``, whatever the
+project's mode: a threshold that ``decided`` did not refine for is judged on the same figures); the others run the criterion again on the same scene and
 ray engine (acceleration structures built once); the mullion reading changes only the
 horizontal sight angle, so the solid angles are reused. With ``view.sight_angle_method: fan`` the
 mullion reading is not tried (the fan's rays stop at a mullion). For each room and check it reports the level
@@ -201,7 +202,12 @@ def sensitivity(project_path: Path, out_dir: Path, overrides=(), log=print) -> d
     from en17037cli.scene import build_scene
 
     t0 = time.perf_counter()
+    # the layer threshold is judged again on the stored solid angles: they are the exact mode's, so
+    # that every threshold of the range is judged on the same figures (the project's own levels are
+    # the same in either mode: docs/method.md, "Bounded figures, exact verdicts")
     project = load_project(Path(project_path), list(overrides))
+    if project.view is not None and project.view.refine != "exact":
+        project = load_project(Path(project_path), [*overrides, "view.refine=exact"])
     ranges = {**RANGES, **{k: tuple(tuple(v) if isinstance(v, list) else v for v in vals)
                            for k, vals in (project.config.get("sensitivity", {}).get("ranges", {}) or {}).items()}}
     scene = build_scene(project)

@@ -6,12 +6,13 @@ from collections.abc import Callable
 import numpy as np
 
 from en17037cli import standard
+from en17037cli.criteria.view.decide import go_on, level_bounds, visibility_bounds
 from en17037cli.criteria.view.frames import RoomGeometry, room_geometry
 from en17037cli.criteria.view.gnomonic import patches
 from en17037cli.criteria.view.rays import ViewRays
 from en17037cli.criteria.view.results import LAYER_NAMES, EyeHeightResult, SolidAngles, ViewPoints, ViewResult, concat
 from en17037cli.criteria.view.sight_angle import horizontal
-from en17037cli.criteria.view.solid_angle import solid_angles
+from en17037cli.criteria.view.solid_angle import Integration
 from en17037cli.project.settings import ViewSettings
 from en17037cli.scene.model import Room, Scene
 from en17037cli.standard import Thresholds
@@ -61,6 +62,42 @@ def no_solid_angles(n: int) -> SolidAngles:
                        cells=np.zeros(n, int))
 
 
+def refined_solid_angles(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings,
+                         progress: Callable[[int], None] | None = None) -> SolidAngles:
+    """The solid angles of one eye height's viewpoints, refined level by level as ``view.refine``
+    says (:func:`~en17037cli.criteria.view.decide.go_on`): the points in small tasks on the engine's
+    threads, each task's :class:`~en17037cli.criteria.view.solid_angle.Integration` tracing its own
+    rays; between levels the decision over every point of the eye height (a room's level is
+    decided by all of them)."""
+    tasks = chunks(rg, points, settings, CELLS_PER_TASK)
+    engine = view_rays.engine
+    engine.prepare(["opaque"] if len(rg.frames) == 1 else ["opaque", rg.group])  # not by two threads at once
+
+    def start(sl):
+        it = Integration(view_rays, rg, points[sl], settings, parallel=False)
+        return it, it.measure()
+
+    parts, measures = [], []
+    for sl, (it, m) in zip(tasks, engine.map_tasks(start, tasks)):
+        parts.append(it)
+        measures.append(m)
+        if progress:
+            progress(sl.stop - sl.start)
+    while True:
+        m = concat(measures)
+        go = go_on(m, settings)
+        if not go.any():
+            break
+        list(engine.map_tasks(lambda k, go=go: parts[k].advance(go[tasks[k]]), range(len(parts))))
+        measures = list(engine.map_tasks(lambda k: parts[k].measure(), range(len(parts))))
+    out = concat([it.result() for it in parts])
+    surely, possibly = visibility_bounds(m, settings.layer_threshold_sr)
+    lo, hi = level_bounds(surely, possibly)
+    out.decided = lo == hi
+    out.undecided = {k: possibly[k] & ~surely[k] for k in LAYER_NAMES}
+    return out
+
+
 def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, settings: ViewSettings,
                   thresholds: Thresholds, progress: Callable[[int], None] | None = None,
                   solid: SolidAngles | None = None, layers: bool = True) -> ViewPoints | None:
@@ -85,16 +122,8 @@ def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, set
         return None
     # chunks bound memory; each is vectorised, and a point's values do not depend on its chunk
     sight = [horizontal(view_rays, rg, points[sl], settings) for sl in chunks(rg, points, settings)]
-    if solid is None:  # small tasks on the engine's threads, each tracing its own rays
-        solids = []
-        tasks = chunks(rg, points, settings, CELLS_PER_TASK)
-        view_rays.engine.prepare(["opaque"] if len(rg.frames) == 1 else ["opaque", rg.group])  # not by two threads at once
-        done = view_rays.engine.map_tasks(lambda sl: solid_angles(view_rays, rg, points[sl], settings, parallel=False), tasks)
-        for sl, res in zip(tasks, done):
-            solids.append(res)
-            if progress:
-                progress(sl.stop - sl.start)
-        solid = concat(solids)
+    if solid is None:
+        solid = refined_solid_angles(view_rays, rg, points, settings, progress)
     elif progress:
         progress(len(points))
     sa, hz = solid, concat(sight)
@@ -107,10 +136,14 @@ def assess_points(view_rays: ViewRays, rg: RoomGeometry, points: np.ndarray, set
         "outside_distance": standard.level_from_value(np.where(np.isnan(dist), -np.inf, dist), thresholds.outside_distance_m),
         "layers": standard.level_from_layers(visible["sky"], visible["landscape"], visible["ground"]),
     }
+    # near a threshold: within its error bound of one (sight angle, distance), or a layer whose
+    # interval still holds the layer threshold (whether it is visible is not decided)
+    layers_near = (np.any([sa.undecided[k] for k in LAYER_NAMES], axis=0) if sa.undecided is not None else
+                   np.any([standard.near_threshold(sa.sr[k], sa.err_sr[k], [thr]) for k in LAYER_NAMES], axis=0))
     near = (
         standard.near_threshold(hz.angle_deg, hz.angle_err_deg, thresholds.horizontal_sight_angle_deg)
         | standard.near_threshold(dist, gap, thresholds.outside_distance_m)
-        | np.any([standard.near_threshold(sa.sr[k], sa.err_sr[k], [thr]) for k in LAYER_NAMES], axis=0)
+        | layers_near
     )
     return ViewPoints(solid=sa, sight=hz, distance_m=dist, distance_gap_m=gap, visible=visible, level_by_criterion=lv,
                       level=standard.point_view_level(*lv.values()), near=near)

@@ -10,14 +10,16 @@ split of mixed cells in four is :mod:`~en17037cli.criteria.view.refine`.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from en17037cli.criteria.view.clip import clip_cells
 from en17037cli.criteria.view.edges import edge_pieces
 from en17037cli.criteria.view.frames import RoomGeometry
 from en17037cli.criteria.view.gnomonic import Patches, grid_lines
-from en17037cli.geometry import clipped_solid_angle, corner_solid_angle, in_triangle
+from en17037cli.geometry import corner_solid_angle
 
 
 def clip_weights(rg: RoomGeometry, P: Patches, patch, tans, weight, full):
@@ -25,9 +27,8 @@ def clip_weights(rg: RoomGeometry, P: Patches, patch, tans, weight, full):
     whose corners may all lie outside the window (NaN elsewhere).
 
     Cells of rectangular windows, and cells already known to lie inside (``full``), keep
-    ``weight`` (the rectangle formula); the others are clipped against the window's triangles that
-    overlap them (found with an STR tree, so a finely tessellated round window costs no more than
-    its overlaps).
+    ``weight`` (the rectangle formula); the others are clipped against their window's outline
+    (:func:`~en17037cli.criteria.view.clip.clip_cells`).
 
     Parameters
     ----------
@@ -48,46 +49,8 @@ def clip_weights(rg: RoomGeometry, P: Patches, patch, tans, weight, full):
         sel = np.flatnonzero((w == f.index) & ~f.is_rectangle & ~full)
         if len(sel) == 0:
             continue
-        wsum, is_full, ex = _clip_cells(f, P, patch[sel], *tans(sel))
-        weight[sel] = np.where(is_full, weight[sel], wsum)
-        full[sel] = is_full
-        extra[sel] = np.where(is_full[:, None], np.nan, ex)
+        weight[sel], full[sel], extra[sel] = clip_cells(f, P, patch[sel], *tans(sel), weight[sel])
     return weight, full, extra
-
-
-def _clip_cells(f, P: Patches, ps, x0, x1, y0, y1):
-    """Cells (bounds in gnomonic coordinates of their patches ``ps``) clipped against the
-    triangles of window frame ``f``: summed solid angle [sr], whether the cell lies inside one
-    triangle, and the centroid [rad] of its largest clipped piece (a point surely inside)."""
-    n = len(ps)
-    d, px, py = P.d[ps], P.x0[ps], P.y0[ps]
-    is_full = disjoint = np.zeros(n, dtype=bool)
-    if len(f.tri2) > 1:  # cells inside the glazing, or away from it, need no clipping against its many triangles
-        is_full, disjoint = f.classify_boxes(px + d * x0, px + d * x1, py + d * y0, py + d * y1)
-    rest = np.flatnonzero(~is_full & ~disjoint)
-    ci, ti = f.triangle_pairs(px[rest] + d[rest] * x0[rest], px[rest] + d[rest] * x1[rest],
-                              py[rest] + d[rest] * y0[rest], py[rest] + d[rest] * y1[rest])
-    ci = rest[ci]
-    # the overlapping triangles in each cell's gnomonic coordinates
-    tri = (f.tri2[ti] - np.stack([px[ci], py[ci]], axis=1)[:, None, :]) / d[ci][:, None, None]
-    corners = np.stack([np.stack([x0, y0], 1), np.stack([x1, y0], 1), np.stack([x0, y1], 1), np.stack([x1, y1], 1)], axis=1)
-    lo, hi = tri.min(axis=1), tri.max(axis=1)
-    overlap = (lo[:, 0] < x1[ci]) & (hi[:, 0] > x0[ci]) & (lo[:, 1] < y1[ci]) & (hi[:, 1] > y0[ci])
-    ci, tri = ci[overlap], tri[overlap]
-    inside4 = np.ones(len(ci), dtype=bool)
-    for j in range(4):  # a cell whose four corners lie in one (convex) triangle lies inside it
-        inside4 &= in_triangle(corners[ci, j], tri)
-    is_full[ci[inside4]] = True
-    part = ~is_full[ci]
-    ci, tri = ci[part], tri[part]
-    rect = np.column_stack([x0[ci], x1[ci], y0[ci], y1[ci]])
-    om, cen = clipped_solid_angle(tri, rect)
-    wsum = np.bincount(ci, om, n)
-    order = np.lexsort((-om, ci))
-    first = order[np.r_[True, ci[order][1:] != ci[order][:-1]]] if len(ci) else order
-    ex = np.full((n, 2), np.nan)
-    ex[ci[first]] = np.arctan(cen[first])
-    return wsum, is_full, ex
 
 
 #: The four children of a cell: for each, its rows of ``T`` as indices into [X0, X1, Y0, Y1, SX0,
@@ -154,6 +117,14 @@ class Cells:
                       None if self.extra is None else self.extra[sel], pc[keep], self.piece_xy[keep], qc[kq],
                       self.probe_cls[kq], None if self.probe_dist is None else self.probe_dist[kq],
                       None if self.nb is None else new[self.nb[:, sel]])
+
+    def compact(self) -> Cells:
+        """The same cells with only the columns of ``GG`` and ``TT`` they use (after :meth:`take`
+        of a few cells of many: a level's bounds are 96 bytes a cell)."""
+        used, src = np.unique(self.src, return_inverse=True)
+        if len(used) == self.GG.shape[1]:
+            return self
+        return dataclasses.replace(self, GG=self.GG[:, used], TT=self.TT[:, used], src=src.astype(np.int64))
 
     def bounds(self, sel) -> tuple[np.ndarray, np.ndarray]:
         """``G`` (4, k) and ``T`` (8, k) of cells ``sel`` (indices)."""

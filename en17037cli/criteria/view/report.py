@@ -19,10 +19,14 @@ VIEW_METHOD = {
                       "weighted by its exact solid angle and classified by the rays through its corners, shared with its "
                       "neighbours, and by two rays just beside the image of any frame edge crossing it; cells whose samples "
                       "disagree, and cells crossed by the image of a frame edge that is not on a grid line (round, arched "
-                      "or diagonal members), count as mixed and split in four (at most view.refine_levels times) until each "
+                      "or diagonal members), count as mixed and split in four (at most view.refine_levels times); view.refine: "
+                      "decided splits a point's mixed cells only while its layers level or its room's could still change or an "
+                      "interval is wider than 2 x view.tolerance x the windows' solid angle at the point, exact until each "
                       "layer's error estimate is within max(view.solid_angle_rel_tolerance x value, "
-                      "view.solid_angle_abs_tolerance_sr); error = half the solid angle of the cells still mixed; features "
-                      "narrower than a cell and not part of a frame can be missed",
+                      "view.solid_angle_abs_tolerance_sr); error = half the solid angle of the cells still mixed; interval = "
+                      "[cells wholly of the layer, plus every mixed cell that can hold it], which holds the estimate of any "
+                      "finer refinement (the exact mode's among them); features narrower than a cell and not part of a "
+                      "frame can be missed",
     "horizontal_sight_angle_deg": "in plan (view.sight_angle_method: plan): the eye-height plane cuts the windows and the "
                                   "opaque faces within view.frame_depth_m of them and of the viewpoints into segments; the "
                                   "windows' azimuth intervals minus the segments' shadows, exact by construction (members "
@@ -48,6 +52,33 @@ def view_method(settings: ViewSettings) -> dict:
     out = {k: v for k, v in VIEW_METHOD.items() if not k.endswith("_fan")}
     if settings.sight_angle_method == "fan":
         out["horizontal_sight_angle_deg"] = VIEW_METHOD["horizontal_sight_angle_deg_fan"]
+    return out
+
+
+def _intervals(solid, i: int) -> dict | None:
+    """The interval [lo, hi] [sr] of each layer's solid angle at point ``i`` (None: not traced)."""
+    if solid.lo_sr is None or not np.isfinite(solid.glazing_sr[i]):
+        return None
+    return {k: [json_number(solid.lo_sr[k][i]), json_number(solid.hi_sr[k][i])] for k in LAYER_NAMES}
+
+
+def _distance_interval(dist: float, gap: float) -> list | None:
+    """[d - gap, d + gap] [m] of a finite outside distance (None: unobstructed, or none leaves)."""
+    if not np.isfinite(dist):
+        return None
+    return [json_number(max(dist - gap, 0.0), 4), json_number(dist + gap, 4)]
+
+
+def _widest(res: ViewResult) -> float:
+    """The widest interval of a layer's solid angle over the room's points [sr] (0 without any)."""
+    out = 0.0
+    for e in res.eye_heights:
+        s = e.values.solid if e.values is not None else None
+        if s is not None and s.lo_sr is not None:
+            for k in LAYER_NAMES:
+                d = s.hi_sr[k] - s.lo_sr[k]
+                if np.isfinite(d).any():
+                    out = max(out, float(np.nanmax(d)))
     return out
 
 
@@ -79,6 +110,11 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
                 "glazing_solid_angle_sr": json_number(v.solid.glazing_sr[i]),
                 "solid_angle_sr": {k: json_number(v.solid.sr[k][i]) for k in LAYER_NAMES},
                 "solid_angle_error_sr": sa_err,
+                "solid_angle_interval_sr": _intervals(v.solid, i),
+                "horizontal_sight_angle_interval_deg": [json_number(max(v.sight.angle_deg[i] - v.sight.angle_err_deg[i], 0.0), 4),
+                                                        json_number(v.sight.angle_deg[i] + v.sight.angle_err_deg[i], 4)],
+                "outside_distance_interval_m": _distance_interval(dist, v.distance_gap_m[i]),
+                "layers_decided": None if v.solid.decided is None else bool(v.solid.decided[i]),
                 "layers": [k for k in LAYER_NAMES if v.visible[k][i]],
                 "level_by_criterion": {c: LEVELS[v.level_by_criterion[c][i]] for c in VIEW_CRITERIA},
                 "level": LEVELS[v.level[i]],
@@ -90,6 +126,7 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
             "level_by_criterion": {k: LEVELS[x] for k, x in e.level_by_criterion.items()},
             "share_by_level": {c: {k: json_number(x, 4) for k, x in sh.items()} for c, sh in e.share_by_level.items()},
             "points_near_threshold": int(np.count_nonzero(v.near)) if len(points) else 0,
+            "points_layers_undecided": int(np.count_nonzero(~v.solid.decided)) if len(points) and v.solid.decided is not None else 0,
             "points": points,
         })
     traced = any(e.values is not None and np.isfinite(e.values.solid.glazing_sr).any() for e in res.eye_heights)
@@ -105,7 +142,10 @@ def view_section(scene: Scene, res: ViewResult, required: str, settings: ViewSet
         "limiting": json_limit(limit),
         "score": json_scores(room_view_score(scores), scores),
         "error_estimates": {
+            "refine": settings.refine,
+            "tolerance": settings.tolerance if settings.refine == "decided" else None,
             "max_solid_angle_error_sr": json_number(err["solid_angle_sr"] if traced else None),
+            "max_solid_angle_interval_sr": json_number(_widest(res) if traced else None),
             "max_horizontal_sight_angle_error_deg": json_number(err["horizontal_sight_angle_deg"], 6),
             "max_outside_distance_error_m": json_number(err["outside_distance_m"], 4),
             "smallest_feature_resolved_deg": {"solid_angle": settings.angular_resolution_deg,  # frames: exactly

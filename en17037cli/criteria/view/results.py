@@ -42,15 +42,26 @@ class OutsideDistance:
 class SolidAngles(OutsideDistance):
     """Per point: solid angle of each layer seen through the room's windows and its error estimate [sr].
 
-    sr, err_sr : layer name -> (p,) float [sr]
+    sr, err_sr : layer name -> (p,) float [sr]: the estimate and the exact mode's error estimate
+        (half the solid angle of the mixed cells holding the layer)
     glazing_sr : (p,) float [sr], the windows' geometric solid angle
     cells : (p,) int, final cells of the integration
+    lo_sr, hi_sr : layer name -> (p,) float [sr]: the interval the layer's solid angle lies in at
+        the sampling's resolution (the cells wholly of the layer; plus every mixed cell that can
+        hold it), which holds the estimate of any finer refinement (None: not traced)
+    decided : (p,) bool, whether the point's layers level is decided by the intervals (None: not known)
+    undecided : layer name -> (p,) bool, whether its interval still holds the layer threshold
+        (visible or not is then the estimate's answer, as in the exact mode; None: not known)
     """
 
     sr: dict[str, np.ndarray]
     err_sr: dict[str, np.ndarray]
     glazing_sr: np.ndarray
     cells: np.ndarray
+    lo_sr: dict[str, np.ndarray] | None = None
+    hi_sr: dict[str, np.ndarray] | None = None
+    decided: np.ndarray | None = None
+    undecided: dict[str, np.ndarray] | None = None
 
 
 @dataclass
