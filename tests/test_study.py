@@ -86,3 +86,22 @@ def test_daylight_ladders(tmp_path):
     est = [rows[("daylight.radiance.max_rays", v)]["estimate"] for v in (64, 256, 1024)]
     assert e[2] < e[0] and est[0] > est[1] > est[2]
     assert all(rows[("daylight.radiance.max_rays", v)]["over_estimate"] <= 1 for v in (64, 256, 1024))  # 15 points
+
+
+def test_view_tolerance_ladder_bounds_its_error(tmp_path):
+    """The view by decision against the exact mode (issue 44): at every rung of view.tolerance the
+    exact solid angle of every point and layer lies within the decided one's interval (the rung's
+    estimate is the farther end of its interval), and the interval narrows as the tolerance does
+    (the error itself need not fall monotonically: a mixed cell's share of its rays is an estimate)."""
+    path = box_room_project(tmp_path / "p", BoxRoom(), sunlight=None, view={"grid_spacing_m": 1.0, "eye_heights_m": [1.2]})
+    lad = next(x for x in study.LADDERS if x.knob == "view.tolerance")
+    res = study.convergence(path, tmp_path / "out", (lad,), log=lambda m: None)
+    rows = res["rows"]
+    assert {r["quantity"] for r in rows} == {"sky", "landscape", "ground"}
+    assert all(r["error"] <= r["estimate"] + 1e-12 for r in rows)
+    assert all(r["over_estimate"] == 0 for r in rows)  # point by point, not only the largest
+    for q in ("sky", "landscape", "ground"):
+        bounds = [r["estimate"] for r in rows if r["quantity"] == q]
+        assert all(a >= b for a, b in zip(bounds, bounds[1:])) and bounds[-1] < bounds[0]
+        # 0.01 of the window's solid angle (under 1.3 sr from 1 m behind a 2 x 1.4 m window), either side
+        assert bounds[-1] <= 2 * 0.01 * 1.3
