@@ -16,6 +16,7 @@ Telescope 68 (2), 1984, p. 159.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -67,7 +68,7 @@ def area_text(name: str, crs) -> str:
     if a is None:
         return f"{name} (no area of use known)"
     w, s, e, n = a.bounds
-    where = a.name.split(",")[0].split(" - ")[0].strip() if a.name else ""
+    where = re.split(r"[,:;]| - ", a.name)[0].strip() if a.name else ""
     return f"{name}'s area of use ({where + ', ' if where else ''}{w:g} to {e:g} E, {s:g} to {n:g} N)"
 
 

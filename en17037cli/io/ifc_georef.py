@@ -28,6 +28,8 @@ schema's, the one the Scale implies, the project's, the metre, that puts the mod
 the CRS's area of use (:func:`en17037cli.io.georef.locate`); a reading other than the schema's is
 warned, naming both. Where none does, or nothing can tell (no pyproj, a CRS PROJ does not know),
 the schema's reading stands (the scene then warns that the model lies outside its CRS's area of use).
+A Scale that disagrees with the units is a note (buildingSMART's own example file, a millimetre
+project with MapUnit metre, has none); offsets read otherwise than the schema says are a warning.
 """
 from __future__ import annotations
 
@@ -146,8 +148,8 @@ def map_conversion(f, name: str = "") -> MapPlacement | None:
     notes, warnings = [], []
     head = f"{name}: placed by its IfcMapConversion to {crs or 'its map CRS'}"
     notes.append(f"{head}: Eastings {_num(e)}, Northings {_num(n)} and OrthogonalHeight {_num(h)} read in {why}")
-    if not agree:
-        warnings.append(f"{name}: its IfcMapConversion's Scale ({'none: 1' if not c.Scale else f'{scale:g}'}) does not "
+    if not agree:  # a note: the model's own size is never in doubt, only how the file says it
+        notes.append(f"{name}: its IfcMapConversion's Scale ({'none: 1' if not c.Scale else f'{scale:g}'}) does not "
                         f"convert the project's {unit_words(project_m)} to the map's {unit_words(map_m)} ({said}): as written "
                         f"it would make the model {k[0]:.4g} times its size in the map; the model is kept at its own size")
     if inside and unit != schema[0]:
