@@ -41,7 +41,7 @@ def site_of(f, path: Path, m: MapPlacement | None) -> Site | None:
     crs = None
     if m is not None:
         crs = m.crs
-        north = None if north is None else (north - m.rotation_deg) % 360.0  # the project's x axis turned in the map
+        north = None if north is None else round((north - m.rotation_deg) % 360.0, 9) % 360.0  # x turned in the map; 360 is 0
         src.append(f"placed by IfcMapConversion in {crs or 'its map CRS'}")
     if lat is None and north is None and crs is None and north_warning is None:
         return None

@@ -59,6 +59,7 @@ def outside_warnings(located: list[tuple[str, Located]]) -> list[str]:
             continue
         at = f"at {format_latlon(w.latitude, w.longitude)}" if np.isfinite(w.latitude) else "nowhere PROJ can say"
         out.append(f"{display}: its georeference puts the model {at} in {w.crs}, outside {w.area}: not taken as the "
-                   "building's location (a map conversion read in the wrong unit, or the wrong CRS named); give the file's "
-                   "crs key, or location.latitude and location.longitude")
+                   "building's location (the model not placed in that CRS, a map conversion read in the wrong unit, or the "
+                   "wrong CRS named); check the files' transform and crs keys, or give location.latitude and "
+                   "location.longitude")
     return out
