@@ -17,7 +17,7 @@ from en17037cli.dwellings import group_dwellings
 from en17037cli.geometry import window_axes
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
-from en17037cli.scene.model import Scene, room_window_group
+from en17037cli.scene.model import WINDOW, Scene, room_window_group
 from en17037cli.scene.windows import describe_part, glazing_grid
 
 
@@ -68,7 +68,7 @@ def windows_without_a_way_out(scene: Scene, engine: RayEngine) -> list[str]:
                            "opening cut?); it adds no view and no sun")
                 out.append(withhold_blocked(scene, room, w, *wall))
                 continue
-            face, dist = engine.first_hit("opaque", targets + 1e-3 * n, np.broadcast_to(n, targets.shape).copy())
+            face, dist = first_hit_past(scene, engine, targets + 1e-3 * n, n, frame_parts(scene, w, 1.0, np.inf))
             hit = face[np.isfinite(dist)]
             what = describe_part(scene.parts[int(scene.part[np.bincount(hit).argmax()])]) if len(hit) else None
             where = (f"the nearest opaque face straight beyond its glazing, on {what}, lies {float(np.median(dist)):.1f} m out"
@@ -82,7 +82,8 @@ def blocked_within_wall(scene: Scene, engine: RayEngine, w, points: np.ndarray) 
     ``points`` (its outward normal, and back into the room) meet an opaque face within the wall's
     thickness of the glass: the host's depth on that side + 5 cm where the model names the host,
     at most :data:`~en17037cli.scene.uncut.WALL_DEPTH_M` (that alone where it names none); the
-    median over the points. None elsewhere."""
+    median over the points. The window's own frame, sash or glazing bars are looked past where they
+    do not cover its glazing (:func:`frame_parts`). None elsewhere."""
     from en17037cli.scene.hosts import host_depths
     from en17037cli.scene.uncut import WALL_DEPTH_M
 
@@ -91,12 +92,78 @@ def blocked_within_wall(scene: Scene, engine: RayEngine, w, points: np.ndarray) 
     limits = (WALL_DEPTH_M, WALL_DEPTH_M) if depths is None else \
         (min(depths[0] + 0.05, WALL_DEPTH_M), min(depths[1] + 0.05, WALL_DEPTH_M))
     for sign, limit, side in ((1.0, limits[0], "beyond"), (-1.0, limits[1], "in front of")):
-        face, dist = engine.first_hit("opaque", points + sign * 1e-3 * n, np.broadcast_to(sign * n, points.shape).copy())
+        face, dist = first_hit_past(scene, engine, points + sign * 1e-3 * n, sign * n, frame_parts(scene, w, sign, limit))
         t = float(np.median(dist)) + 1e-3
         if t <= limit:
             hit = face[np.isfinite(dist)]
             return t, side, scene.parts[int(scene.part[np.bincount(hit).argmax()])]
     return None
+
+
+#: An opaque part of a window's own element covering at least this share of its glazing, seen
+#: along the glazing's normal, is a panel over it (a shutter, an opaque sash) and can stop every
+#: ray; less (a frame around the glass, a sash over its rim, glazing bars) covers only what it
+#: overlaps.
+SHUTTER_SHARE = 0.5
+
+
+def own_cover(scene: Scene, w, sign: float, limit: float) -> float:
+    """Share [-] of window ``w``'s glazing covered, seen along its normal, by the opaque faces of its
+    own element (:func:`~en17037cli.scene.windows.own_parts`) lying on the ``sign`` side of its
+    plane (+1 outward) within ``limit`` [m]: those faces and the glazing projected on the glazing's
+    plane, the area of the union of the first inside the union of the second over the second's."""
+    import shapely
+
+    from en17037cli.scene.windows import own_parts
+
+    mine = own_parts(scene.parts, w)
+    faces = np.flatnonzero(mine[scene.part] & (scene.layer != WINDOW))
+    if len(faces) == 0:
+        return 0.0
+    n = np.asarray(w.normal, float)
+    tri = scene.vertices[scene.triangles[faces]]
+    depth = sign * ((tri.mean(axis=1) - w.centroid) @ n)
+    tri = tri[(depth > 0) & (depth <= limit)]
+    if len(tri) == 0:
+        return 0.0
+    a, up = window_axes(n)
+    plane = lambda t: shapely.union_all(shapely.make_valid(shapely.polygons(np.stack([t @ a, t @ up], axis=-1))))  # noqa: E731
+    glass = plane(w.triangles)
+    return float(plane(tri).intersection(glass).area / glass.area) if glass.area > 0 else 0.0
+
+
+def frame_parts(scene: Scene, w, sign: float, limit: float) -> np.ndarray:
+    """(parts,) bool: the parts of ``w``'s own element that rays from its glazing look past on the
+    ``sign`` side: all of them where, within ``limit`` [m], they cover less than
+    :data:`SHUTTER_SHARE` of it (a frame, a sash over its rim: each hides only what it overlaps,
+    and what stops the rays is what lies beyond); none where they cover more (a panel over the pane)."""
+    from en17037cli.scene.windows import own_parts
+
+    if w.key is None or own_cover(scene, w, sign, limit) >= SHUTTER_SHARE:
+        return np.zeros(len(scene.parts), bool)
+    return own_parts(scene.parts, w)
+
+
+def first_hit_past(scene: Scene, engine: RayEngine, origins: np.ndarray, direction: np.ndarray, past: np.ndarray,
+                   steps: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """The first opaque face along ``direction`` (3,) from each of ``origins`` (k, 3) [m] that is not
+    on a part ``past`` (parts,) bool marks, and its distance [m] (-1, +inf where none): rays that meet
+    such a part go on from just beyond it, at most ``steps`` times (a frame's faces, a sash's)."""
+    d = np.broadcast_to(np.asarray(direction, float), origins.shape).copy()
+    o = np.array(origins, float)
+    face, dist = np.full(len(o), -1, np.int64), np.full(len(o), np.inf)
+    gone, live = np.zeros(len(o)), np.arange(len(o))
+    for _ in range(steps):
+        f, t = engine.first_hit("opaque", o[live], d[live])
+        skip = np.isfinite(t) & past[scene.part[np.maximum(f, 0)]]
+        face[live[~skip]], dist[live[~skip]] = f[~skip], gone[live[~skip]] + t[~skip]
+        step = t[skip] + 1e-4
+        live = live[skip]
+        o[live] += step[:, None] * d[live]
+        gone[live] += step
+        if not len(live):
+            break
+    return face, dist
 
 
 def withhold_blocked(scene: Scene, room, w, dist: float, side: str, part) -> str:

@@ -70,8 +70,9 @@ def test_a_room_whose_only_surroundings_are_a_shed_is_not_assessable(tmp_path):
     assert judged["eye_heights"][0]["level_by_criterion"]["layers"] == "none", judged["eye_heights"][0]["level_by_criterion"]
     view = run(project)
     assert view["status"] == "not_assessable", view
-    assert ("the model has no surroundings in front of the room's windows (its landscape covers 7% of the horizon in "
-            "front of them, 25% needed to judge the layers; the landscape layer holds 1 object(s): 'building')") in view["reason"]
+    assert ("the model has no surroundings in front of the room's windows (its landscape standing 2 m or more covers 7% of "
+            "the horizon in front of them, 25% needed to judge the layers; the landscape layer holds 1 object(s): 'building'; "
+            "what lies flat or low, terrain, markings, bicycles, is no surroundings)") in view["reason"]
     assert view["error_estimates"]["method"]["solid_angle_sr"].startswith("not traced")
     r = CliRunner().invoke(cli, ["validate", str(project)], catch_exceptions=False)
     assert "view: room 'box room' NOT ASSESSABLE: the view layers cannot be assessed: the model has no surroundings" in r.output
@@ -104,3 +105,52 @@ def test_a_street_keeps_its_layers_judged(tmp_path):
     """The guard: the sample's 400 m street building (92 % of the horizon) is surroundings."""
     project = box_room_project(tmp_path / "p", BoxRoom(), sunlight=None, view=VIEW)
     assert run(project)["status"] in ("pass", "fail")
+
+
+def lying_project(tmp_path, extra: dict):
+    """The box room with no street building: its landscape the objects ``extra`` (name -> polygons)."""
+    from en17037cli.samples.box import box_room_polygons, write_obj
+
+    objects = {**box_room_polygons(BoxRoom(building_height=0)), **extra}
+    (tmp_path / "a").mkdir()
+    write_obj(tmp_path / "a" / "model.obj", objects)
+    doc = yaml.safe_load(box_room_project(tmp_path / "tmp", BoxRoom(), sunlight=None, view=VIEW).read_text())
+    doc["model"]["files"] = [{"path": "model.obj", "layers": [{"match": "glazing", "layer": "window"},
+                                                              {"match": "ground", "layer": "ground"},
+                                                              *({"match": k, "layer": "landscape"} for k in extra),
+                                                              {"match": "*", "layer": "interior"}]}]
+    (tmp_path / "a" / "project.yaml").write_text(yaml.safe_dump(doc))
+    return tmp_path / "a" / "project.yaml"
+
+
+def _slab(x0, x1, y0, y1, z0, z1):
+    """The six faces of a box [m]."""
+    from en17037cli.samples.box import _rect_x, _rect_y, _rect_z
+
+    return [_rect_z(z0, x0, x1, y0, y1), _rect_z(z1, x0, x1, y0, y1), _rect_y(y0, x0, x1, z0, z1), _rect_y(y1, x0, x1, z0, z1),
+            _rect_x(x0, y0, y1, z0, z1), _rect_x(x1, y0, y1, z0, z1)]
+
+
+def test_terrain_and_low_objects_on_the_landscape_layer_are_no_surroundings(tmp_path):
+    """Revit's topography, parking bays and bicycles exported as IfcBuildingElementProxy read as
+    landscape (FM_ARC_DigitalHub): here a terrain slab 0.3 m thick from 3 m to 200 m in front of the
+    window, 400 m wide, and a row of 1 m bicycle stands 400 m long 10 m out. Before: the terrain
+    alone covered 2 atan(200 / 3) / pi = 99 % of the horizon, and the room's layers were judged on
+    ground read as landscape. Now neither stands (flat; lower than MIN_HEIGHT_M): 0 %, not
+    assessable, the reason saying what does not count; a tree 8 m tall (x -3 to 3 m, 20 m out) is
+    surroundings again: 2 atan(3 / 20) / pi of the horizon from its near face."""
+    from en17037cli.criteria.view.surroundings import MIN_HEIGHT_M
+
+    terrain = _slab(-200.0, 200.0, -200.0, -3.0, -0.3, 0.0)
+    stands = _slab(-200.0, 200.0, -11.0, -10.0, 0.0, 1.0)
+    assert 1.0 < MIN_HEIGHT_M
+    p = lying_project(tmp_path, {"terrain": terrain, "stands": stands})
+    sc = build_scene(load_project(p))
+    assert horizon_share(sc, sc.rooms[0].windows[0]) == 0.0
+    view = run(p)
+    assert view["status"] == "not_assessable" and "covers 0% of the horizon" in view["reason"], view
+    assert "what lies flat or low, terrain, markings, bicycles, is no surroundings" in view["reason"]
+    tree = _slab(-3.0, 3.0, -26.0, -20.0, 0.0, 8.0)
+    (tmp_path / "t").mkdir()
+    sc = build_scene(load_project(lying_project(tmp_path / "t", {"terrain": terrain, "stands": stands, "tree": tree})))
+    assert abs(horizon_share(sc, sc.rooms[0].windows[0]) - 2 * math.atan(3 / 20) / math.pi) < 1e-12

@@ -57,21 +57,38 @@ def glazed(b, st, name: str):
     return w
 
 
+def _rect(x0, z0, x1, z1):
+    return [(x0, z0), (x1, z0), (x1, z1), (x0, z1)]
+
+
+#: The pane inside the window's 6 cm frame: 1.08 x 1.08 m about the window's centre [m, in its plane].
+PANE = 0.54
+#: case -> opaque parts of the window's own element 1 cm beyond its glass: (outline, holes) in its plane [m]
+OWN_PARTS = {
+    "shutter": [(_rect(-0.55, -0.55, 0.55, 0.55), [])],  # a panel over the whole pane: covers 100 %
+    "frame_ahead": [(_rect(-0.6, -0.6, 0.6, 0.6), [_rect(-PANE, -PANE, PANE, PANE)])],  # a ring around the glass: 0 %
+    "sash_rim": [(_rect(-0.57, -0.57, 0.57, 0.57), [_rect(-0.52, -0.52, 0.52, 0.52)])],  # over its 2 cm rim: 7.3 %
+    "glazing_bars": [(_rect(-PANE, -0.02, PANE, 0.02), []), (_rect(-0.02, -PANE, 0.02, -0.02), []),
+                     (_rect(-0.02, 0.02, 0.02, PANE), [])],  # a cross of 4 cm bars: 7.3 %
+}
+
+
 def house(path: Path, case: str) -> Path:
     b, st, walls = box_shell()
     room = b.space("R1", "Room", st, [(0.3, 0.3), (6.3, 0.3), (6.3, 5.3), (0.3, 5.3)], 0.0, 2.7)
     if case in ("cut", "neighbour", "lining"):
         b.window("W", st, walls[0], CENTRE, S, X, 1.2, 1.2, spaces=[room])
-    elif case == "shutter":  # the window's own opaque panel 1 cm beyond its glass's outer face
+    elif case in OWN_PARTS:  # the window's own opaque parts 1 cm beyond its glass's outer face
         from en17037cli.samples.ifc import FRAME_DEPTH_M, GLASS_M
 
         w = b.window("W", st, walls[0], CENTRE, S, X, 1.2, 1.2, spaces=[room])
         rep = w.Representation.Representations[0]
         glass_y = 0.02 + FRAME_DEPTH_M / 2 - GLASS_M / 2
-        panel = b.plate(np.array([(-0.55, -0.55), (0.55, -0.55), (0.55, 0.55), (-0.55, 0.55)]), [],
-                        (CENTRE[0], glass_y - 0.01, CENTRE[2]), X, Z, (0, -1, 0), 0.005)
-        rep.Items = list(rep.Items) + [panel]
-        b.api.run("style.assign_item_style", b.f, item=panel, style=b.styles["frame"])
+        parts = [b.plate(np.array(outer), [np.array(h) for h in holes], (CENTRE[0], glass_y - 0.01, CENTRE[2]), X, Z,
+                         (0, -1, 0), 0.005) for outer, holes in OWN_PARTS[case]]
+        rep.Items = list(rep.Items) + parts
+        for panel in parts:
+            b.api.run("style.assign_item_style", b.f, item=panel, style=b.styles["frame"])
     elif case == "uncut":
         glazed(b, st, "W")
     elif case == "shallow":  # the opening from the outer face 12 cm into the wall: the window's frame fits in it
@@ -81,7 +98,7 @@ def house(path: Path, case: str) -> Path:
         b.represent(op, [b.plate(outline, [], np.array(CENTRE) + (0, -0.02, 0), X, Z, (0, 1, 0), 0.14)])
         b.api.run("feature.add_feature", b.f, feature=op, element=walls[0])
         b.api.run("feature.add_filling", b.f, opening=op, element=glazed(b, st, "W"))
-    if case == "neighbour":
+    if case in ("neighbour", "frame_ahead", "sash_rim", "glazing_bars"):
         b.wall("Neighbour", st, 16.0, -1.5, -10.0, -1.5, 0.0, 10.0)  # thickness to its left: south, away from the house
     if case == "lining":
         lining = b.entity("IfcCovering", "Lining")
@@ -158,3 +175,34 @@ def test_a_window_covered_by_its_own_panel_withholds_the_verdict_naming_it(tmp_p
     (q,) = rep["quarantined"]
     assert "its own element IfcWindow 'W'" in q["reason"] and "lies 0.01 m beyond its glazing" in q["reason"]
     assert "wall" not in q["reason"]
+
+
+#: The share of the pane (1.08 x 1.08 m) each case's own parts cover, worked out by hand.
+COVER = {"shutter": 1.0, "frame_ahead": 0.0, "sash_rim": 1 - 1.04 ** 2 / 1.08 ** 2,
+         "glazing_bars": (1.08 * 0.04 + 2 * 0.04 * 0.52) / 1.08 ** 2}
+
+
+@pytest.mark.parametrize("case", list(OWN_PARTS))
+def test_what_a_windows_own_parts_cover_of_its_pane(tmp_path, case):
+    """Seen along the pane's normal: the shutter covers all of it, the ring around it nothing, the
+    sash over its rim and the glazing bars 7.3 % (the window's own 8 cm frame, its hole the pane's
+    outline, adds nothing)."""
+    from en17037cli.preflight import own_cover
+
+    s = build_scene(load_project(project(tmp_path, case), []))
+    (w,) = s.rooms[0].windows
+    assert own_cover(s, w, 1.0, 0.6) == pytest.approx(COVER[case], abs=1e-9)
+    assert own_cover(s, w, -1.0, 0.6) == 0.0  # nothing of it on the room's side
+
+
+@pytest.mark.parametrize("case", ["frame_ahead", "sash_rim", "glazing_bars"])
+def test_a_windows_own_frame_or_bars_ahead_of_its_glass_are_no_shutter(tmp_path, case):
+    """A frame, a sash over the glass's rim, glazing bars 1 cm beyond the glass, and a neighbour's
+    wall 1.5 m out that stops every ray: the neighbour is what stops them (a legitimate 0 h, the
+    room FAILs), and the window is not quarantined as covered by its own panel (before: the bars,
+    over 5 of the 9 points the check looks through, were taken for one)."""
+    code, rep = check(project(tmp_path, case), tmp_path / "out")
+    sun = rep["rooms"][0]["sunlight"]
+    assert rep["quarantined"] == [] and code == 1 and sun["status"] == "fail" and sun["hours_h"] == 0.0
+    (warning,) = [x for x in rep["warnings"] if "no ray from the room leaves" in x]
+    assert "on IfcWall 'Neighbour'" in warning and f"lies {1.5 + 0.02 + 0.037:.1f} m out" in warning

@@ -49,6 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
+from en17037cli.io.ifc_georef import map_conversion
 from en17037cli.io.ifc_glazing import (
     GLASS_TRANSPARENCY,
     GLAZED,
@@ -59,7 +60,7 @@ from en17037cli.io.ifc_glazing import (
     is_default_material,
     opaque_by_style,
 )
-from en17037cli.io.ifc_site import apply_map, map_conversion, site_of
+from en17037cli.io.ifc_site import site_of
 from en17037cli.io.ifc_spaces import read_spaces, storey_of
 from en17037cli.io.ifc_step import open_ifc
 from en17037cli.io.ifc_windows import (
@@ -342,10 +343,10 @@ def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
     """Read an IFC file: products as parts by class and style, spaces, site (see the module docstring)."""
     options = options or ReadOptions()
     f, notes = open_ifc(path)
-    m = map_conversion(f)
+    m = map_conversion(f, path.name)
 
     def place(v: np.ndarray) -> np.ndarray:
-        return v if m is None else apply_map(v, m)
+        return v if m is None else m.apply(v)
 
     excluded = set(options.exclude)
     shapes = []
@@ -373,8 +374,9 @@ def read_ifc(path: Path, options: ReadOptions | None = None) -> Mesh:
         b.bare = [(w, why) for w, why in left if w.Representation is None]  # the others: in ``missing`` already
         missing = [(p, why) for p, why in missing if p.id() not in placed]
     warnings, more = b.messages(missing)
-    if m is not None:
-        notes.append(f"{path.name}: placed by its IfcMapConversion ({m[6] or 'map CRS'})")
+    if m is not None:  # how its offsets and scale were read
+        notes.extend(m.notes)
+        warnings.extend(m.warnings)
     spaces = f.by_type("IfcSpace")
     space_shapes = ((p, v, fc) for p, v, fc, _, _ in _iterate(f, include=spaces)) if spaces else ()
     unread = [(label(p), f"no geometry from ifcopenshell ({why})") for p, why in missing if any(p.is_a(c) for c in GLAZED)]

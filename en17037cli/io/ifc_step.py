@@ -141,7 +141,7 @@ def open_ifc(path: Path) -> tuple[object, list[str]]:
     if f.schema not in ("IFC2X3", "IFC4", "IFC4X3", "IFC4X3_ADD2"):
         raise InputError(f"{path}: IFC schema {f.schema} is not read; ask for an IFC2X3, IFC4 or IFC4X3 export of the model")
     check_all_read(path, data, f)
-    fixed, count, entities = repair_derived_markers(data, f.schema)
+    fixed, count, entities = repair_derived_markers(data, getattr(f, "schema_identifier", f.schema))  # IFC4X3_ADD2, not IFC4X3
     if count:
         f = read_ifc_file(path, fixed, changed=True)
         names = ", ".join(sorted(entities)[:4]) + (" ..." if len(entities) > 4 else "")

@@ -13,6 +13,7 @@ from en17037cli.geometry import triangle_normals
 from en17037cli.io import ReadOptions, is_context, read_model
 from en17037cli.io.mesh import Mesh, Space
 from en17037cli.project.settings import ModelFile, ModelSettings, Transform
+from en17037cli.scene.georef import located_files
 from en17037cli.scene.layers import assign_layers, assign_optics
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry
 
@@ -282,7 +283,7 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
                  optics=np.concatenate(all_o) if any(f.part_optics is not None for f in files) else None,
                  read=[(f.spec.display, read_summary(f.mesh)) for f in files],
                  windows_left_out=[(f.spec.display, *w) for f in files for w in f.mesh.windows_left_out],
-                 context=context)
+                 context=context, located=located_files(files))
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
                          "degenerate, NaN or infinite (zero area); re-export the glazing")

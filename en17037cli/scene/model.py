@@ -144,6 +144,8 @@ class Geometry:
     windows_left_out : (file, window label, why) of windows the files define that give no glazing
     context : (index in model.files, file, first part, end part) of each city model (CityJSON,
         CityGML): its parts are ``parts[first:end]``
+    located : (file, :class:`~en17037cli.io.georef.Located`) where each georeferenced file's CRS
+        puts it (:mod:`en17037cli.scene.georef`)
     """
 
     vertices: np.ndarray
@@ -162,6 +164,7 @@ class Geometry:
     #: (file, window label, why) of windows the files define that give no glazing (Mesh.windows_left_out)
     windows_left_out: list = field(default_factory=list)
     context: list = field(default_factory=list)  # (model.files index, file, first part, end part) of city models
+    located: list = field(default_factory=list)  # (file, Located) where a georeferenced file's CRS puts it
 
 
 @dataclass(kw_only=True)

@@ -13,6 +13,16 @@ building's site:
   capitals). A location taken from the model there is warned as probably the tool's default; any
   location taken from the model is printed by ``validate`` and listed in report.json
   ``inputs.resolved`` with its source, to be confirmed.
+- **The georeference.** A file in a map CRS (an IFC's IfcMapConversion, a CityGML or CityJSON
+  city model, a ``crs`` key) says where it stands too (:mod:`en17037cli.scene.georef`), more surely
+  than an IfcSite an exporter fills with its default. A project that leaves its location out takes
+  the georeference where the file's site is missing, null, a tool's default, or more than
+  :data:`GEOREF_MATCH_KM` from it (a warning names both); the site where they agree (a note). A
+  georeference outside its CRS's area of use is no location (warned); if the site is then a tool's
+  default, neither can be trusted and the run stops (exit 2) asking for ``location.latitude`` and
+  ``location.longitude``; with no georeference at all a default site is only warned, as above.
+  A location the project gives is kept, with a warning where a georeferenced file (a city model
+  around the building) lies more than :data:`GEOREF_MATCH_KM` from it.
 - **North.** A TrueNorth that is not a horizontal direction is read as the reader says and warned
   (:func:`en17037cli.io.ifc_site.true_north`); ``validate`` prints each window's compass bearing
   (:func:`compass_bearing`) so the orientation can be checked against the drawings.
@@ -25,7 +35,9 @@ from dataclasses import replace
 import numpy as np
 
 from en17037cli.errors import InputError
+from en17037cli.io.georef import distance_km, format_latlon
 from en17037cli.project.settings import Location, Project
+from en17037cli.scene.georef import outside_warnings
 from en17037cli.scene.model import Geometry
 
 #: Latitude and longitude within this of a listed site are that site [deg] (about 100 m; the
@@ -51,6 +63,11 @@ DEFAULT_SITES = (
     (51.0 + 30 / 60 + 0.549316 / 3600, -(7 / 60 + 34.450321 / 3600), "Revit's London, where it places a model near by default"),
     (48.0 + 51 / 60 + 12.2485 / 3600, 2.0 + 20 / 60 + 55.62563 / 3600, "ArchiCAD's default site in its French version (Paris)"),
 )
+
+#: A site and a georeference farther apart than this disagree: the georeference is taken [km]
+#: (an IfcSite set to the nearest city lies within a few kilometres; a tool's default or a
+#: template's, hundreds away).
+GEOREF_MATCH_KM = 5.0
 
 #: 16 compass points, clockwise from north.
 COMPASS = ("N", "NNE", "NE", "ENE", "E", "ESE", "SE", "SSE", "S", "SSW", "SW", "WSW", "W", "WNW", "NW", "NNW")
@@ -90,36 +107,80 @@ def resolve_north(project: Project, g: Geometry) -> tuple[float, dict | None, li
 
 
 def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Location | None, dict, list[str], list[str]]:
-    """The project's location with a latitude or longitude it leaves out taken from a model file
-    that says where it stands (not the null site), what came from where, and what to say of it: a
-    warning where that is a tool's default site, else a note (confirm it)."""
+    """The project's location with a latitude or longitude it leaves out taken from the model files
+    (see the module docstring: the georeference, else the IfcSite or gbXML location), what came
+    from where, and what to say of it (warnings, notes)."""
     loc = project.location
     out: dict = {}
-    if loc is None or (loc.latitude is not None and loc.longitude is not None):
+    if loc is None:
         return loc, out, [], []
+    warnings = outside_warnings(g.located)
+    geo, geo_file = next(((w, d) for d, w in g.located if w.inside), (None, None))
+    if loc.latitude is not None and loc.longitude is not None:
+        apart = None if geo is None else distance_km(loc.latitude, loc.longitude, geo.latitude, geo.longitude)
+        if geo is not None and apart is not None and apart > GEOREF_MATCH_KM:
+            warnings.append(f"{where}: location {format_location(loc.latitude, loc.longitude)} given, but {geo_file}'s "
+                            f"georeference ({geo.crs}) puts the model at {format_location(geo.latitude, geo.longitude)}, "
+                            f"{apart:,.0f} km away: the sun is taken at the location given; check location.latitude and "
+                            "location.longitude, or the file's georeference (its crs key)")
+        return loc, out, warnings, []
     null = [display for display, s, _ in g.sites if is_null_site(s.latitude, s.longitude)]
     site, display = next(((s, d) for d, s, _ in g.sites if s.latitude is not None and s.longitude is not None
                           and not is_null_site(s.latitude, s.longitude)), (None, None))
-    if site is None:
+    what = default_site(site.latitude, site.longitude) if site is not None else None
+    notes: list[str] = []
+    if geo is not None:  # the georeference, unless the site agrees with it
+        km = None if site is None else distance_km(site.latitude, site.longitude, geo.latitude, geo.longitude)
+        if site is not None and what is None and km is not None and km <= GEOREF_MATCH_KM:
+            lat, lon, source = site.latitude, site.longitude, site.source
+            notes.append(f"location {format_location(lat, lon)} taken from {location_source(source)}; its georeference "
+                         f"({geo.crs}) agrees within {km:.1f} km")
+        else:
+            lat, lon = geo.latitude, geo.longitude
+            source = f"{geo_file}: latitude and longitude from its georeference ({geo.crs}), at the centre of its plan"
+            said = _site_said(site, display, what, km, null)
+            (warnings if said else notes).append(
+                f"{where}: location {format_location(lat, lon)} taken from {geo_file}'s georeference ({geo.crs})"
+                + (f"; {said}" if said else ": confirm it is the building's site (or give location.latitude and "
+                   "location.longitude)"))
+    elif site is None:
         said = (f"; {null[0]} gives latitude 0 and longitude 0, the null site (what a tool writes when none was set), "
                 "not a location") if null else ""
+        said += f"; {g.located[0][0]}'s georeference lies outside {g.located[0][1].area}" if g.located else ""
         raise InputError(f"{where}: location.latitude: not given, and no model file says where it stands (an IfcSite's "
-                         f"RefLatitude, a gbXML Campus/Location){said}; give location.latitude and location.longitude")
-    lat = loc.latitude if loc.latitude is not None else site.latitude
-    lon = loc.longitude if loc.longitude is not None else site.longitude
+                         f"RefLatitude, a gbXML Campus/Location, a georeference inside its CRS's area of use){said}; give "
+                         "location.latitude and location.longitude")
+    elif what is not None and g.located:  # a tool's default site, and a georeference outside its CRS: neither holds
+        raise InputError(f"{where}: location.latitude: not given, and neither place the model files give can be trusted: "
+                         f"{display}'s site {format_location(site.latitude, site.longitude)} is {what}, and "
+                         f"{g.located[0][0]}'s georeference lies outside {g.located[0][1].area}; give "
+                         "location.latitude and location.longitude")
+    else:
+        lat, lon, source = site.latitude, site.longitude, site.source
+        if what is not None:
+            warnings.append(f"{where}: location {format_location(lat, lon)} taken from {display} is probably the tool's "
+                            f"default: {what}, not the building's site; confirm it, or give location.latitude and "
+                            "location.longitude")
+        else:
+            notes.append(f"location {format_location(lat, lon)} taken from {location_source(source)}: confirm it is the "
+                         "building's site (or give location.latitude and location.longitude)")
+    lat = loc.latitude if loc.latitude is not None else lat
+    lon = loc.longitude if loc.longitude is not None else lon
     for key, value, given in (("latitude", lat, loc.latitude), ("longitude", lon, loc.longitude)):
         if given is None:
-            out[f"location.{key}"] = {"value": value, "source": site.source}
-    warnings, notes = [], []  # a warning where the site is a tool's default, else a note: confirm it
-    what = default_site(site.latitude, site.longitude)
-    if what is not None:
-        warnings.append(f"{where}: location {format_location(site.latitude, site.longitude)} taken from {display} is "
-                        f"probably the tool's default: {what}, not the building's site; confirm it, or give "
-                        "location.latitude and location.longitude")
-    else:
-        notes.append(f"location {format_location(lat, lon)} taken from {location_source(site.source)}: confirm it is the "
-                     "building's site (or give location.latitude and location.longitude)")
+            out[f"location.{key}"] = {"value": value, "source": source}
     return replace(loc, latitude=lat, longitude=lon), out, warnings, notes
+
+
+def _site_said(site, display, what: str | None, km: float | None, null: list[str]) -> str:
+    """Why the file's site is not taken where its georeference is: a tool's default, or far from it
+    ("" where the file gives no site)."""
+    if site is None:
+        return f"{null[0]}'s site is the null site (latitude 0, longitude 0)" if null else ""
+    at = f"{display}'s site {format_location(site.latitude, site.longitude)}"
+    if what is not None:
+        return f"{at} is {what}, not the building's site"
+    return f"{at} lies {km:,.0f} km from it (more than {GEOREF_MATCH_KM:g} km): the georeference is taken"
 
 
 def location_source(source: str) -> str:
@@ -132,7 +193,7 @@ def location_source(source: str) -> str:
 
 def format_location(lat: float, lon: float) -> str:
     """'52.0116 N, 4.3571 E' [deg]."""
-    return f"{abs(lat):.4f} {'N' if lat >= 0 else 'S'}, {abs(lon):.4f} {'E' if lon >= 0 else 'W'}"
+    return format_latlon(lat, lon)
 
 
 def compass_bearing(normal, true_north_deg: float) -> float | None:

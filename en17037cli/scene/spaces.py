@@ -41,6 +41,7 @@ from en17037cli.project.settings import RoomSpec
 from en17037cli.scene.hosts import host_depths
 from en17037cli.scene.model import WINDOW, LeftOut, Room, Scene, Window
 from en17037cli.scene.rooms import make_room
+from en17037cli.scene.space_overlap import overlap_reason
 from en17037cli.scene.windows import glazing_grid
 
 #: A space counts as the one a window opens into when it lies this far beyond the host's depth at most [m]
@@ -311,7 +312,8 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
     Floor: the space's footprint at its bottom; ceiling: its top. Windows: those that open into
     it (:func:`match_windows`), narrowed by the spec's ``windows`` globs. A space with no window is
     left out (``validate`` lists it); a space with windows but no usable floor is left out with the
-    reason, and the run cannot pass (:attr:`Scene.left_out`).
+    reason, and the run cannot pass (:attr:`Scene.left_out`); a space without a window that is drawn
+    over one with windows says so (:mod:`~en17037cli.scene.space_overlap`).
     """
     key, kind = ("gbxml_spaces", "gbXML Space") if spec.gbxml_spaces is not None else ("ifc_spaces", "IfcSpace")
     glob = getattr(spec, key) or "*"
@@ -344,8 +346,9 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
                                           tuple(w.name for w in scene.windows if w.key in named)))
             continue
         if not chosen:  # the project's own globs leaving out every window: its choice, not a space left out unasked
-            scene.left_out.append(LeftOut(name, "no window opens into it" if not opening else
-                                          f"none of its {len(opening)} window(s) matches rooms[{spec.index}].windows"))
+            why = (overlap_reason([s for _, s in scene.spaces], names, i, by_space) or "no window opens into it") \
+                if not opening else f"none of its {len(opening)} window(s) matches rooms[{spec.index}].windows"
+            scene.left_out.append(LeftOut(name, why))
             continue
         room_spec = replace(spec, name=name, floor_z=space.floor_z, floor=space.footprint, ceiling_z=space.top_z,
                             view_points=None, sun_points=None, windows=None)
