@@ -1,23 +1,25 @@
-"""The shared drawing of the pictures: a figure rendered to reproducible PNG bytes, and the parts
-several pictures draw (legends, colour bars, north arrow, scale bar).
+"""The canvas of the pictures: what a picture holds, written as SVG text here and drawn as PNG by
+:mod:`.raster`, without matplotlib.
 
-Every picture is reproducible as matplotlib's own test suite makes its images: a fixed figure
-size and DPI, the Agg canvas (pyplot is never imported), matplotlib's default style with the
-bundled DejaVu Sans font set locally through :func:`matplotlib.rc_context`, and no
-``Software`` entry in the PNG metadata, so the same inputs give byte-identical files on one
-installation (another FreeType or matplotlib version may move anti-aliased pixels).
+A picture is laid out in *layout pixels* from its bottom-left corner, y up, and printed at
+``scale`` of its size: a picture of ``size_px`` layout pixels is ``scale x size_px / 100`` inches,
+its PNG has one pixel per layout pixel (``100 / scale`` dots per inch) and its SVG's ``viewBox`` is
+in layout pixels. Text is set in points at that printed size, never below :data:`MIN_FONT_PT` (8 pt
+on paper: EN ISO 216 A4 reports read at arm's length); line widths and dashes are in printed points.
 
-Pictures are laid out in *layout pixels* from the bottom-left of the figure (:func:`layout_px`) and
-drawn at the size they are printed at: a picture of ``size_px`` layout pixels is
-``scale x size_px / 100`` inches, its PNG is written at ``100 / scale`` dots per inch (one PNG pixel
-per layout pixel) and its SVG is vector. Text is set in points at that printed size, never below
-:data:`MIN_FONT_PT` (8 pt on paper: EN ISO 216 A4 reports read at arm's length). matplotlib is
-imported inside the functions that draw, so this module imports without it.
+A :class:`Canvas` records, in drawing order: pixel images and cells (filled without anti-aliasing,
+so their pixels carry their exact colours), paths (polylines and polygons, stroked and filled),
+markers (discs and rings) and text. Text is data, never markup: the SVG escapes it and keeps it as
+text (selectable, measurable in a browser), with the characters XML cannot hold replaced by U+FFFD.
+The same canvas gives byte-identical PNG and SVG on one installation (no dates, no version strings).
 """
 from __future__ import annotations
 
-import io
-from collections.abc import Callable
+import base64
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,78 +30,223 @@ MIN_FONT_PT = 8.0
 #: The report's pictures are printed at this fraction of their layout size: a 500 px wide map is
 #: 3.45 in on paper, two side by side on A4 (and its PNG, one pixel per layout pixel, is 145 dpi).
 PRINT_SCALE = 0.69
+#: Line spacing of text of several lines [font sizes] (as matplotlib set it).
+LINE_SPACING = 1.2
+#: DejaVu Sans's ascent and descent [em] (its ``hhea`` table: 1901 and 483 of 2048 units).
+ASCENT, DESCENT = 1901 / 2048, 483 / 2048
 
-_RC: dict = {
-    # Text from a model (names, GlobalIds, whose alphabet includes "$") is data: never parsed as TeX
-    # mathematics ("$...$"), which stopped AC11-Institute's run on "...IBf$$ZaZkjsa)" (issue 43).
-    "text.parse_math": False,
-    "font.family": "DejaVu Sans",
-    "font.size": 8,
-    "svg.hashsalt": "en17037cli",
-    "svg.fonttype": "none",  # text stays text in the SVG: selectable, and measurable in a browser
-    "lines.scale_dashes": False,
-    "axes.titlesize": 9,
-    "axes.labelsize": 8,
-    "legend.fontsize": 8,
-    "legend.frameon": False,
-    "xtick.labelsize": 8,
-    "ytick.labelsize": 8,
-}
+_NAMED = {"black": "#000000", "white": "#ffffff"}
+_XML_BAD = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
 
-def layout_px(fig):
-    """The transform from layout pixels (bottom-left origin) to the figure, at any output resolution."""
-    from matplotlib.transforms import Affine2D
-
-    return Affine2D().scale(fig.en17037_scale / DPI) + fig.dpi_scale_trans
-
-
-def pt_px(fig) -> float:
-    """Layout pixels per printed point."""
-    return DPI / 72.0 / fig.en17037_scale
+def colour_hex(c) -> str:
+    """``"#rrggbb"`` of a hex string, ``"black"``/``"white"`` or an RGB(A) row of floats in [0, 1]."""
+    if isinstance(c, str):
+        return _NAMED.get(c, c).lower()
+    r, g, b = (int(round(float(v) * 255)) for v in list(c)[:3])
+    return f"#{r:02x}{g:02x}{b:02x}"
 
 
-def _render(draw: Callable, size_px: tuple[float, float], scale: float = PRINT_SCALE, fmt: str = "png"):
-    """Draw on a fresh figure of ``size_px`` layout pixels printed ``scale`` x ``size_px / 100`` in.
-
-    Returns the PNG bytes (one pixel per layout pixel), the SVG text as UTF-8 bytes, or for
-    ``fmt="both"`` the pair (png, svg), drawn once.
-    """
-    import matplotlib
-    import matplotlib.style
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    dpi = DPI / scale
-    with matplotlib.style.context("default"), matplotlib.rc_context(_RC):  # the user's matplotlibrc does not leak in
-        fig = Figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
-        fig.en17037_scale = scale
-        FigureCanvasAgg(fig)
-        draw(fig)
-        out = {}
-        for kind in (("png", "svg") if fmt == "both" else (fmt,)):
-            buf = io.BytesIO()
-            meta = {"Software": None} if kind == "png" else {"Date": None, "Creator": None}
-            fig.savefig(buf, format=kind, dpi=dpi, metadata=meta)
-            out[kind] = buf.getvalue()
-    return (out["png"], out["svg"]) if fmt == "both" else out[fmt]
+def colour_rgb(c) -> tuple[int, int, int]:
+    """(r, g, b) in 0..255 of a colour as :func:`colour_hex` takes it."""
+    h = colour_hex(c)
+    return int(h[1:3], 16), int(h[3:5], 16), int(h[5:7], 16)
 
 
-def image_at(fig, rgb: np.ndarray, box_px: tuple[float, float, float, float]) -> None:
-    """An RGB image (h, w, 3) uint8 shown pixel for pixel in ``box_px`` (left, bottom, width, height)
-    layout pixels: an axes of its own, so it lands in place in the PNG and the SVG alike."""
-    x0, y0, w, h = box_px
-    W, H = fig.get_size_inches() * fig.dpi
-    ax = fig.add_axes((x0 / W, y0 / H, w / W, h / H))
-    ax.imshow(rgb, interpolation="nearest", aspect="auto", extent=(0, 1, 0, 1))
-    ax.set_axis_off()
+def xml_text(s: str) -> str:
+    """Text as XML character data: ``&``, ``<``, ``>`` escaped, characters XML 1.0 cannot hold as U+FFFD."""
+    s = _XML_BAD.sub("\ufffd", str(s))
+    return s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def _n(v: float) -> str:
+    """A coordinate for the SVG: two decimals, never an exponent."""
+    s = f"{v:.2f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+@dataclass
+class Canvas:
+    """A picture of ``width`` x ``height`` layout pixels printed at ``scale`` (see the module)."""
+
+    width: int
+    height: int
+    scale: float = PRINT_SCALE
+    items: list = field(default_factory=list)
+
+    @property
+    def pt(self) -> float:
+        """Layout pixels per printed point."""
+        return DPI / 72.0 / self.scale
+
+    def image(self, rgb: np.ndarray, box: tuple[int, int, int, int]) -> None:
+        """An RGB image (h, w, 3) uint8 pixel for pixel in ``box`` (left, bottom, w, h) [whole layout px]."""
+        self.items.append(("image", np.ascontiguousarray(rgb, dtype=np.uint8), tuple(int(v) for v in box)))
+
+    def cells(self, quads: np.ndarray, rgb: np.ndarray) -> None:
+        """Parallelograms (n, 4, 2) [layout px, corners in turn] filled with (n, 3) uint8 colours, not
+        anti-aliased: a pixel whose centre lies in a cell takes the cell's exact colour."""
+        q = np.asarray(quads, dtype=float).reshape(-1, 4, 2)
+        if len(q):
+            self.items.append(("cells", q, np.asarray(rgb, dtype=np.uint8).reshape(-1, 3)))
+
+    def path(self, xy, *, stroke="black", lw: float = 1.0, fill=None, closed: bool = False, dash: Sequence[float] | None = None,
+             alpha: float = 1.0) -> None:
+        """A polyline or polygon (k, 2) [layout px], or several of the same style (a list of them).
+
+        stroke, fill : colour or None; lw : line width [pt]; dash : on, off, ... lengths [pt]; the
+        line's ends are butt, its joins round; alpha : opacity of the stroke and fill.
+        """
+        pieces = [np.asarray(p, dtype=float).reshape(-1, 2) for p in (xy if isinstance(xy, list) else [xy])]
+        pieces = [p for p in pieces if len(p) >= 2]
+        if pieces and (stroke is not None or fill is not None):
+            self.items.append(("path", pieces, None if stroke is None else colour_hex(stroke), float(lw),
+                               None if fill is None else colour_hex(fill), bool(closed), tuple(dash) if dash else None, alpha))
+
+    def rect(self, x: float, y: float, w: float, h: float, **kw) -> None:
+        """A rectangle from its bottom-left corner (x, y) [layout px]; keywords of :meth:`path`."""
+        self.path(np.array([[x, y], [x + w, y], [x + w, y + h], [x, y + h]]), closed=True, **kw)
+
+    def markers(self, xy, size: float, *, fill=None, stroke=None, lw: float = 1.0) -> None:
+        """A disc or ring of diameter ``size`` [pt] (matplotlib's marker size) at each point (m, 2) [layout px]."""
+        p = np.asarray(xy, dtype=float).reshape(-1, 2)
+        p = p[np.all(np.isfinite(p), axis=1)]
+        if len(p):
+            self.items.append(("markers", p, float(size), None if fill is None else colour_hex(fill),
+                               None if stroke is None else colour_hex(stroke), float(lw)))
+
+    def text(self, x: float, y: float, s: str, *, size: float = MIN_FONT_PT, ha: str = "left", va: str = "baseline",
+             colour="black", bold: bool = False, rotation: int = 0, box: tuple | None = None) -> None:
+        """Text at (x, y) [layout px]: ``size`` [pt], ``ha`` left/center/right, ``va`` top/center/
+        baseline/bottom (of its block of lines), ``rotation`` 0 or 90 [deg], ``box`` (colour,
+        opacity, pad [em]) behind it. Lines break at ``\\n``; the text is drawn as written."""
+        s = str(s)
+        if s:
+            self.items.append(("text", float(x), float(y), s, float(size), ha, va, colour_hex(colour), bool(bold), int(rotation),
+                               box))
+
+    def lines_of(self, x: float, y: float, s: str, size: float, ha: str, va: str, rotation: int = 0):
+        """Each line of a text item with its anchor [layout px]: (line, x, baseline y) with the block
+        aligned by ``va``; rotated by 90 deg the lines stack to the right."""
+        lines = s.split("\n")
+        em = size * self.pt
+        step = LINE_SPACING * em
+        block = (len(lines) - 1) * step + (ASCENT + DESCENT) * em
+        top = {"top": 0.0, "center": block / 2, "bottom": block}.get(va, ASCENT * em)  # from y up to the block's top
+        first = top - ASCENT * em
+        out = []
+        for k, line in enumerate(lines):
+            off = first - k * step  # the line's baseline relative to y, along the text's "up"
+            out.append((line, x - off, y) if rotation == 90 else (line, x, y + off))
+        return out
+
+    def text_width(self, s: str, size: float = MIN_FONT_PT, bold: bool = False) -> float:
+        """Width [layout px] of the widest line of ``s`` in DejaVu Sans at ``size`` [pt]."""
+        from en17037cli.report.pictures.raster import font
+
+        f = font(size * self.pt, bold)
+        return max(f.getlength(line) for line in str(s).split("\n"))
+
+    def render(self, fmt: str = "png"):
+        """The PNG bytes, the SVG as UTF-8 bytes, or for ``fmt="both"`` the pair (png, svg)."""
+        if fmt not in ("png", "svg", "both"):
+            raise ValueError(f"fmt must be 'png', 'svg' or 'both', not {fmt!r}")
+        from en17037cli.report.pictures.raster import png
+
+        if fmt == "png":
+            return png(self)
+        return (png(self), svg(self)) if fmt == "both" else svg(self)
+
+
+def svg(c: Canvas) -> bytes:
+    """The canvas as an SVG document: vector paths, cells without anti-aliasing, images as inline
+    PNG, text as text; its size in printed points, its ``viewBox`` in layout pixels (y down)."""
+    from en17037cli.report.pictures.raster import encode_png
+
+    W, H = c.width, c.height
+    out = ['<?xml version="1.0" encoding="utf-8" standalone="no"?>\n'
+           f'<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="{_n(W * c.scale * 0.72)}pt" '
+           f'height="{_n(H * c.scale * 0.72)}pt" viewBox="0 0 {W} {H}" version="1.1">\n'
+           f'<rect width="{W}" height="{H}" style="fill: #ffffff"/>\n']
+    for item in c.items:
+        kind = item[0]
+        if kind == "image":
+            _, rgb, (x0, y0, w, h) = item
+            data = base64.b64encode(encode_png(rgb)).decode("ascii")
+            out.append(f'<image x="{x0}" y="{H - y0 - h}" width="{w}" height="{h}" preserveAspectRatio="none" '
+                       f'style="image-rendering: pixelated" xlink:href="data:image/png;base64,{data}"/>\n')
+        elif kind == "cells":
+            out.append(_svg_cells(item[1], item[2], H))
+        elif kind == "path":
+            out.append(_svg_path(c, *item[1:], H))
+        elif kind == "markers":
+            _, p, size, fill, stroke, lw = item
+            r = 0.5 * size * c.pt
+            style = f"fill: {fill or 'none'}" + (f"; stroke: {stroke}; stroke-width: {_n(lw * c.pt)}" if stroke else "")
+            d = "".join(f"M{_n(x - r)} {_n(H - y)}a{_n(r)} {_n(r)} 0 1 0 {_n(2 * r)} 0a{_n(r)} {_n(r)} 0 1 0 {_n(-2 * r)} 0z"
+                        for x, y in p)
+            out.append(f'<path d="{d}" style="{style}"/>\n')
+        else:
+            out.append(_svg_text(c, *item[1:], H))
+    out.append("</svg>\n")
+    return "".join(out).encode("utf-8")
+
+
+def _svg_cells(quads: np.ndarray, rgb: np.ndarray, H: int) -> str:
+    """One path per colour (cells grouped by colour), not anti-aliased: no seams between cells."""
+    q = quads.copy()
+    q[..., 1] = H - q[..., 1]
+    key = (rgb[:, 0].astype(np.int64) << 16) | (rgb[:, 1].astype(np.int64) << 8) | rgb[:, 2]
+    order = np.argsort(key, kind="stable")
+    keys, starts = np.unique(key[order], return_index=True)
+    ends = np.append(starts[1:], len(order))
+    out = ['<g style="shape-rendering: crispEdges">\n']
+    for k, a, b in zip(keys, starts, ends):  # one per colour
+        flat = tuple(q[order[a:b]].reshape(-1).tolist())
+        d = ("M%.2f %.2fL%.2f %.2fL%.2f %.2fL%.2f %.2fZ" * (b - a)) % flat
+        out.append(f'<path d="{d}" style="fill: #{int(k):06x}"/>\n')
+    out.append("</g>\n")
+    return "".join(out)
+
+
+def _svg_path(c: Canvas, pieces, stroke, lw, fill, closed, dash, alpha, H) -> str:
+    d = "".join("M" + "L".join(f"{_n(x)} {_n(H - y)}" for x, y in p) + ("Z" if closed else "") for p in pieces)
+    style = [f"fill: {fill}" if fill else "fill: none"]
+    if stroke:
+        style.append(f"stroke: {stroke}; stroke-width: {_n(lw * c.pt)}; stroke-linecap: butt; stroke-linejoin: round")
+        if dash:
+            style.append("stroke-dasharray: " + ",".join(_n(v * c.pt) for v in dash))
+    if alpha < 1:
+        style.append(f"opacity: {alpha:g}")
+    return f'<path d="{d}" style="{"; ".join(style)}"/>\n'
+
+
+def _svg_text(c: Canvas, x, y, s, size, ha, va, colour, bold, rotation, box, H) -> str:
+    em = size * c.pt
+    anchor = {"left": "start", "center": "middle", "right": "end"}[ha]
+    style = (("font-weight: 700; " if bold else "") + f"font-size: {math.ceil(em * 1000) / 1000:g}px; "
+             f"font-family: 'DejaVu Sans', sans-serif; text-anchor: {anchor}" + ("" if colour == "#000000" else f"; fill: {colour}"))
+    out = []
+    lines = c.lines_of(x, y, s, size, ha, va, rotation)
+    if box is not None:
+        from en17037cli.report.pictures.raster import text_box
+
+        x0, y0, x1, y1 = text_box(c, lines, size, ha, bold, box[2])
+        out.append(f'<rect x="{_n(x0)}" y="{_n(H - y1)}" width="{_n(x1 - x0)}" height="{_n(y1 - y0)}" rx="{_n(0.3 * em)}" '
+                   f'style="fill: {colour_hex(box[0])}; opacity: {box[1]:g}"/>\n')
+    for line, lx, ly in lines:
+        rot = f' transform="rotate(-90 {_n(lx)} {_n(H - ly)})"' if rotation == 90 else ""
+        out.append(f'<text style="{style}" x="{_n(lx)}" y="{_n(H - ly)}"{rot}>{xml_text(line)}</text>\n')
+    return "".join(out)
 
 
 def warm_up() -> None:
-    """Import matplotlib and load the font by drawing a tiny picture: the first picture's fixed
-    cost (about 0.5 s), for a caller to pay in a background thread while it traces rays. The
-    caller must wait for it (``Thread.join``) before drawing: matplotlib's settings are global."""
-    _render(lambda fig: fig.text(0.5, 0.5, "0°"), (20, 20))
+    """Load the drawing code and the fonts by drawing a tiny picture: the first picture's fixed cost,
+    for a caller to pay in a background process while it traces rays."""
+    c = Canvas(20, 20)
+    c.text(2, 10, "0°")
+    c.path(np.array([[0, 0], [10, 10]]))
+    c.render("both")
 
 
 def _fmt_num(v: float) -> str:
@@ -117,93 +264,3 @@ def _scale_bar_m(width_m: float) -> float:
             if v <= target:
                 best = v
     return best
-
-
-def _scale_bar(fig, x0: float, y0: float, length_px: float, length_m: float) -> None:
-    """A scale bar from (x0, y0) [px], two halves black and white, ``length_px`` long for ``length_m`` [m]."""
-    from matplotlib.patches import Rectangle
-    px = layout_px(fig)
-    fig.add_artist(Rectangle((x0, y0), length_px / 2, 5, facecolor="black", edgecolor="black", linewidth=0.6, transform=px))
-    fig.add_artist(Rectangle((x0 + length_px / 2, y0), length_px / 2, 5, facecolor="white", edgecolor="black", linewidth=0.6,
-                             transform=px))
-    fig.text(x0 + length_px + 6, y0 + 2.5, f"{_fmt_num(length_m)} m", va="center", ha="left", fontsize=MIN_FONT_PT, transform=px)
-
-
-def _legend(fig, x: float, y: float, entries: list, title: str | None = None, size: float = MIN_FONT_PT) -> float:
-    """A legend drawn with plain artists from its top-left corner (x, y) [layout px]; returns the y below it.
-
-    entries : list of (kind, style, label); kind "patch" (style: face colour), "line" (style: list
-    of Line2D keyword dicts drawn on top of each other) or "marker" (style: Line2D keywords)
-    """
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Rectangle
-
-    px = layout_px(fig)
-    row = 1.4 * size * pt_px(fig)  # a line of text and a little air
-    key = 1.1 * size * pt_px(fig)  # the swatch's width
-    if title:
-        fig.text(x, y, title, ha="left", va="top", fontsize=size, transform=px)
-        y -= row + 2
-    for kind, style, label in entries:
-        cy = y - row / 2
-        if kind == "patch":
-            fig.add_artist(Rectangle((x, cy - 0.3 * key), key, 0.6 * key, facecolor=style, edgecolor="black", linewidth=0.4,
-                                     transform=px))
-        elif kind == "line":
-            for kw in style:
-                fig.add_artist(Line2D([x, x + key], [cy, cy], transform=px, **kw))
-        else:
-            fig.add_artist(Line2D([x + key / 2], [cy], linestyle="none", transform=px, **style))
-        fig.text(x + key + 6, cy, label, ha="left", va="center", fontsize=size, transform=px)
-        y -= row
-    return y
-
-
-def _colour_bar(fig, box_px: tuple[int, int, int, int], norm, cmap_name, extend, label, thresholds, kind):
-    """A colour bar drawn as a pixel image in ``box_px`` (left, bottom, width, height) [px], the level thresholds across it."""
-    import matplotlib
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Polygon, Rectangle
-    px = layout_px(fig)
-    cmap = matplotlib.colormaps[cmap_name]
-    x0, y0, w, h = box_px
-    t = (np.arange(h)[::-1] + 0.5) / h  # row 0 is the top
-    column = np.round(np.asarray(cmap(t))[:, :3] * 255).astype(np.uint8)
-    image_at(fig, column[:, None, :], (x0, y0, w, h))
-    tip = 0.6 * w
-    if extend in ("min", "both"):
-        fig.add_artist(Polygon([(x0, y0), (x0 + w, y0), (x0 + w / 2, y0 - tip)], facecolor=cmap(0.0), edgecolor="black",
-                               linewidth=0.5, transform=px))
-    if extend in ("max", "both"):
-        fig.add_artist(Polygon([(x0, y0 + h), (x0 + w, y0 + h), (x0 + w / 2, y0 + h + tip)], facecolor=cmap(1.0),
-                               edgecolor="black", linewidth=0.5, transform=px))
-    fig.add_artist(Rectangle((x0, y0), w, h, fill=False, edgecolor="black", linewidth=0.5, transform=px))
-    unit = {"sight_angle": "°", "daylight_factor": " %", "share_of_hours": ""}.get(kind, " m")
-    for name in ("minimum", "medium", "high"):
-        v = float(thresholds[name])
-        if norm.vmin <= v <= norm.vmax:
-            y = y0 + float(norm(v)) * h
-            fig.add_artist(Line2D([x0, x0 + w + 3], [y, y], color="white", linewidth=2.4, transform=px))
-            fig.add_artist(Line2D([x0, x0 + w + 3], [y, y], color="black", linewidth=1.0, transform=px))
-            fig.text(x0 + w + 6, y, f"{name} {_fmt_num(v)}{unit}", ha="left", va="center", fontsize=MIN_FONT_PT, transform=px)
-    lo_lab, hi_lab = (f"{_fmt_num(norm.vmin)}°", f"{_fmt_num(round(norm.vmax, 1))}°") if kind == "sight_angle" else \
-        (f"≤ {_fmt_num(norm.vmin)} m", f"≥ {_fmt_num(round(norm.vmax))} m, unobstructed")
-    if kind in ("daylight_factor", "share_of_hours"):
-        lo_lab, hi_lab = f"{_fmt_num(norm.vmin)}{unit}", f"{_fmt_num(round(norm.vmax, 2))}{unit}"
-    fig.text(x0 + w + 6, y0 - (tip if extend in ("min", "both") else 0), lo_lab, ha="left", va="center", fontsize=MIN_FONT_PT,
-             color="#404040", transform=px)
-    fig.text(x0 + w + 6, y0 + h + (tip if extend in ("max", "both") else 0), hi_lab, ha="left", va="center", fontsize=MIN_FONT_PT,
-             color="#404040", transform=px)
-    fig.text(x0, y0 + h + tip + 14, label, ha="left", va="bottom", fontsize=MIN_FONT_PT, transform=px)
-
-
-def _north_arrow(fig, centre: tuple[float, float], north: np.ndarray, length: float = 44.0):
-    """An arrow through ``centre`` [px] pointing along ``north`` (a vector of the picture), marked N."""
-    from matplotlib.patches import FancyArrowPatch
-    px = layout_px(fig)
-    n = north / max(float(np.hypot(*north)), 1e-12)
-    c = np.asarray(centre, dtype=float)
-    fig.add_artist(FancyArrowPatch(tuple(c - 0.5 * length * n), tuple(c + 0.5 * length * n), arrowstyle="-|>", color="black",
-                                   linewidth=1.2, mutation_scale=10, transform=px))
-    tip = c + (0.5 * length + 9) * n
-    fig.text(tip[0], tip[1], "N", ha="center", va="center", fontsize=MIN_FONT_PT + 1, fontweight="bold", transform=px)

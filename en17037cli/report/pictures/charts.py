@@ -6,8 +6,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from en17037cli.report.numbers import fmt_duration, fmt_hm
-from en17037cli.report.pictures.canvas import _render
 from en17037cli.report.pictures.colours import ASSESSED_COLOUR, BAR_COLOUR
+from en17037cli.report.pictures.mpl import _render
 
 #: Layout size of the hours chart [in / 100 px] (width, height); printed at PRINT_SCALE (3.45 x 2.2 in).
 CHART_SIZE_IN = (5.0, 3.2)

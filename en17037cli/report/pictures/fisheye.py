@@ -13,7 +13,7 @@ import numpy as np
 
 from en17037cli.geometry.fisheye import fisheye_directions, fisheye_pixel_xy, fisheye_xy
 from en17037cli.report.pictures import colours
-from en17037cli.report.pictures.canvas import DPI, _fmt_num, _legend, _render, image_at, layout_px
+from en17037cli.report.pictures.mpl import DPI, _fmt_num, _legend, _render, image_at, layout_px
 
 __all__ = ["fisheye", "fisheye_directions", "fisheye_pixel", "fisheye_pixel_xy", "fisheye_xy"]
 

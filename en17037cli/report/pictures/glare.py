@@ -6,7 +6,8 @@ import math
 
 import numpy as np
 
-from en17037cli.report.pictures.canvas import (
+from en17037cli.report.pictures.colours import LEVEL_COLOURS, LEVEL_NAMES, WINDOW_COLOUR, _rgb
+from en17037cli.report.pictures.mpl import (
     MIN_FONT_PT,
     _legend,
     _north_arrow,
@@ -16,7 +17,6 @@ from en17037cli.report.pictures.canvas import (
     image_at,
     layout_px,
 )
-from en17037cli.report.pictures.colours import LEVEL_COLOURS, LEVEL_NAMES, WINDOW_COLOUR, _rgb
 from en17037cli.report.pictures.plan import PLAN_BOX_PX, PLAN_SIZE_IN, _rot, plan_rotation
 
 #: The DGP classes of the carpet, low to high: below high's limit, then each limit to the next (the
