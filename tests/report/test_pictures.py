@@ -584,16 +584,19 @@ def test_an_error_bound_rounded_to_zero_is_not_printed_as_zero():
 
 
 def _svg_texts(svg) -> list[tuple[str, float, float, str]]:
-    """(text, x, y, anchor) of every <text> of an SVG picture (fonts kept as text)."""
+    """(text, x, y, anchor) of every <text> of an SVG picture (fonts kept as text), x and y in points
+    of the printed picture (its width in pt over its viewBox's width)."""
     import re
 
     s = svg.decode() if isinstance(svg, bytes) else svg
+    head = re.search(r"<svg[^>]*>", s)[0]
+    k = float(re.search(r'width="([\d.]+)pt"', head)[1]) / float(re.search(r'viewBox="[-\d.]+ [-\d.]+ ([\d.]+)', head)[1])
     out = []
     for m in re.finditer(r'<text style="([^"]*)" (?:x="([-\d.]+)" y="([-\d.]+)"|transform="translate\(([-\d.]+) ([-\d.]+)\)")'
                          r'[^>]*>([^<]*)</text>', s):  # one line at x, y; a line of several at translate(x y)
         anchor = re.search(r"text-anchor: (\w+)", m[1])
         x, y = (m[2], m[3]) if m[2] is not None else (m[4], m[5])
-        out.append((m[6], float(x), float(y), anchor[1] if anchor else "start"))
+        out.append((m[6], k * float(x), k * float(y), anchor[1] if anchor else "start"))
     return out
 
 

@@ -32,8 +32,9 @@ MIN_FONT_PT = 8.0
 PRINT_SCALE = 0.69
 #: Line spacing of text of several lines [font sizes] (as matplotlib set it).
 LINE_SPACING = 1.2
-#: DejaVu Sans's ascent and descent [em] (its ``hhea`` table: 1901 and 483 of 2048 units).
-ASCENT, DESCENT = 1901 / 2048, 483 / 2048
+#: The height of a line of text above and below its baseline [em]: the top of DejaVu Sans's "l" and
+#: the bottom of its "p" (1556 and 426 of 2048 units), the box matplotlib aligns a line of text by.
+ASCENT, DESCENT = 1556 / 2048, 426 / 2048
 
 _NAMED = {"black": "#000000", "white": "#ffffff"}
 _XML_BAD = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
@@ -63,6 +64,26 @@ def _n(v: float) -> str:
     """A coordinate for the SVG: two decimals, never an exponent."""
     s = f"{v:.2f}".rstrip("0").rstrip(".")
     return "0" if s in ("-0", "") else s
+
+
+def split_nan(p: np.ndarray) -> list[np.ndarray]:
+    """The runs of two or more finite points of a polyline (k, 2) with NaN breaks."""
+    ok = np.all(np.isfinite(p), axis=1)
+    if ok.all():
+        return [p] if len(p) >= 2 else []
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(np.int8), [0]])))
+    return [p[a:b] for a, b in zip(edges[::2], edges[1::2]) if b - a >= 2]
+
+
+def _thinned(p: np.ndarray, step_px: float = 2.0) -> np.ndarray:
+    """A long polyline (k, 2) [layout px] with its points at least about ``step_px`` apart along it
+    (the first point of each step, and the last point): a sun path sampled every 2 min has points
+    half a pixel apart, and a chord of 2 px on a curve of radius 100 px is 0.005 px off it."""
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
+    _, first = np.unique(np.floor(s / step_px), return_index=True)
+    if first[-1] != len(p) - 1:
+        first = np.append(first, len(p) - 1)
+    return p[first]
 
 
 @dataclass
@@ -97,8 +118,8 @@ class Canvas:
         stroke, fill : colour or None; lw : line width [pt]; dash : on, off, ... lengths [pt]; the
         line's ends are butt, its joins round; alpha : opacity of the stroke and fill.
         """
-        pieces = [np.asarray(p, dtype=float).reshape(-1, 2) for p in (xy if isinstance(xy, list) else [xy])]
-        pieces = [p for p in pieces if len(p) >= 2]
+        pieces = [q for p in (xy if isinstance(xy, list) else [xy]) for q in split_nan(np.asarray(p, dtype=float).reshape(-1, 2))]
+        pieces = [_thinned(p) if len(p) > 64 else p for p in pieces]  # a long curve's points 2 px apart
         if pieces and (stroke is not None or fill is not None):
             self.items.append(("path", pieces, None if stroke is None else colour_hex(stroke), float(lw),
                                None if fill is None else colour_hex(fill), bool(closed), tuple(dash) if dash else None, alpha))
@@ -183,8 +204,8 @@ def svg(c: Canvas) -> bytes:
             _, p, size, fill, stroke, lw = item
             r = 0.5 * size * c.pt
             style = f"fill: {fill or 'none'}" + (f"; stroke: {stroke}; stroke-width: {_n(lw * c.pt)}" if stroke else "")
-            d = "".join(f"M{_n(x - r)} {_n(H - y)}a{_n(r)} {_n(r)} 0 1 0 {_n(2 * r)} 0a{_n(r)} {_n(r)} 0 1 0 {_n(-2 * r)} 0z"
-                        for x, y in p)
+            arc = f"a{_n(r)} {_n(r)} 0 1 0 {_n(2 * r)} 0a{_n(r)} {_n(r)} 0 1 0 {_n(-2 * r)} 0z"
+            d = ("M%.2f %.2f" + arc.replace("%", "%%")) * len(p) % tuple(np.column_stack([p[:, 0] - r, H - p[:, 1]]).ravel().tolist())
             out.append(f'<path d="{d}" style="{style}"/>\n')
         else:
             out.append(_svg_text(c, *item[1:], H))
@@ -209,8 +230,15 @@ def _svg_cells(quads: np.ndarray, rgb: np.ndarray, H: int) -> str:
     return "".join(out)
 
 
+def _svg_d(p: np.ndarray, H: float, closed: bool) -> str:
+    """The ``d`` of a polyline (k, 2) [layout px, y up]: two decimals (one format of all its points)."""
+    q = p.copy()
+    q[:, 1] = H - q[:, 1]
+    return "M" + ("%.2f %.2fL" * len(q) % tuple(q.ravel().tolist()))[:-1] + ("Z" if closed else "")
+
+
 def _svg_path(c: Canvas, pieces, stroke, lw, fill, closed, dash, alpha, H) -> str:
-    d = "".join("M" + "L".join(f"{_n(x)} {_n(H - y)}" for x, y in p) + ("Z" if closed else "") for p in pieces)
+    d = "".join(_svg_d(p, H, closed) for p in pieces)
     style = [f"fill: {fill}" if fill else "fill: none"]
     if stroke:
         style.append(f"stroke: {stroke}; stroke-width: {_n(lw * c.pt)}; stroke-linecap: butt; stroke-linejoin: round")

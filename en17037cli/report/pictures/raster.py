@@ -18,13 +18,14 @@ import functools
 import math
 import os
 import struct
+import threading
 import zlib
 
 import numpy as np
 
 from en17037cli.report.pictures.canvas import ASCENT, DESCENT, DPI, Canvas, colour_rgb
 
-#: Samples per pixel side of the anti-aliased paths.
+#: Samples per pixel side of the anti-aliased paths (4: a pixel's row of samples is a 32-bit word).
 SUPERSAMPLE = 4
 #: zlib level of the PNG files (1: about 1 ms for a 500 x 360 picture, 20 % larger than at 6).
 PNG_LEVEL = 1
@@ -46,21 +47,22 @@ def _font_dir() -> str | None:
 
 @functools.lru_cache(maxsize=64)
 def font(size_px: float, bold: bool = False):
-    """DejaVu Sans (bold) at ``size_px`` pixels, laid out without shaping (the same on every
-    installation: characters left to right as written)."""
-    from PIL import ImageFont
+    """DejaVu Sans (bold) at ``size_px`` pixels, laid out by Raqm where Pillow has it (right-to-left
+    scripts in their order, as matplotlib draws them), else character by character."""
+    from PIL import ImageFont, features
 
     d = _font_dir()
     name = "DejaVuSans-Bold.ttf" if bold else "DejaVuSans.ttf"
     if d is None:
         return ImageFont.load_default(size_px)
-    return ImageFont.truetype(os.path.join(d, name), size_px, layout_engine=ImageFont.Layout.BASIC)
+    layout = ImageFont.Layout.RAQM if features.check("raqm") else ImageFont.Layout.BASIC
+    return ImageFont.truetype(os.path.join(d, name), size_px, layout_engine=layout)
 
 
 def encode_png(rgb: np.ndarray, dpi: float | None = None) -> bytes:
-    """PNG bytes of an RGB image (h, w, 3) uint8, 8 bits a channel, rows unfiltered (the pictures'
-    flat colours compress well without), zlib at :data:`PNG_LEVEL`; its resolution (``pHYs``) if
-    ``dpi`` is given, no date and no version string.
+    """PNG bytes of an RGB image (h, w, 3) or RGBX image (h, w, 4) uint8: 8 bits a channel, rows
+    unfiltered (the pictures' flat colours compress well without), zlib at :data:`PNG_LEVEL`; its
+    resolution (``pHYs``) if ``dpi`` is given, no date and no version string.
 
     References
     ----------
@@ -68,8 +70,11 @@ def encode_png(rgb: np.ndarray, dpi: float | None = None) -> bytes:
     11.3.5.3 (pHYs), 7.3 and 9 (filter type 0).
     """
     h, w = rgb.shape[:2]
-    raw = np.zeros((h, 1 + 3 * w), dtype=np.uint8)  # each row: its filter type (0, none), then its pixels
-    raw[:, 1:] = rgb.reshape(h, 3 * w)
+    raw = _scratch("raw", (h, 1 + 3 * w))  # each row: its filter type (0, none), then its pixels
+    raw[:, 0] = 0
+    pixels = raw[:, 1:].reshape(h, w, 3)
+    for k in range(3):  # a channel at a time: numpy copies every fourth byte slowly
+        pixels[..., k] = rgb[..., k]
 
     def chunk(kind: bytes, data: bytes) -> bytes:
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
@@ -78,8 +83,23 @@ def encode_png(rgb: np.ndarray, dpi: float | None = None) -> bytes:
     if dpi:
         ppm = int(round(dpi / 0.0254))
         out.append(chunk(b"pHYs", struct.pack(">IIB", ppm, ppm, 1)))
-    out += [chunk(b"IDAT", zlib.compress(raw.tobytes(), PNG_LEVEL)), chunk(b"IEND", b"")]
+    out += [chunk(b"IDAT", zlib.compress(memoryview(raw).cast("B"), PNG_LEVEL)), chunk(b"IEND", b"")]
     return b"".join(out)
+
+
+_SCRATCH = threading.local()
+
+
+def _scratch(name: str, shape: tuple[int, ...]) -> np.ndarray:
+    """A uint8 array of ``shape`` on a buffer kept for the next picture of this thread (its content
+    is what the last user left): a fresh array of a few megabytes each picture costs more in page
+    faults than the drawing."""
+    n = int(np.prod(shape))
+    b = getattr(_SCRATCH, name, None)
+    if b is None or b.size < n:
+        b = np.empty(n, dtype=np.uint8)
+        setattr(_SCRATCH, name, b)
+    return b[:n].reshape(shape)
 
 
 def _drawable(a: np.ndarray, mode: str):
@@ -113,7 +133,8 @@ def png(c: Canvas) -> bytes:
     from PIL import Image
 
     W, H = int(c.width), int(c.height)
-    buf = np.full((H, W, 4), 255, dtype=np.uint8)  # RGBX, as Pillow holds RGB
+    buf = _scratch("picture", (H, W, 4))  # RGBX, as Pillow holds RGB
+    buf.fill(255)
     img = buf[..., :3]
     for item in c.items:
         if item[0] == "image":
@@ -140,8 +161,7 @@ def png(c: Canvas) -> bytes:
     for item in c.items:
         if item[0] == "text":
             _text(im, c, *item[1:])
-    # Pillow packs RGBX to RGB much faster than numpy copies every fourth byte out
-    return encode_png(np.frombuffer(im.tobytes("raw", "RGB"), dtype=np.uint8).reshape(H, W, 3), DPI / c.scale)
+    return encode_png(buf if im.mode == "RGBX" else np.asarray(im), DPI / c.scale)
 
 
 def _fill_cells(img: np.ndarray, quads: np.ndarray, rgb: np.ndarray) -> None:
@@ -153,13 +173,12 @@ def _fill_cells(img: np.ndarray, quads: np.ndarray, rgb: np.ndarray) -> None:
     det = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
     ok = np.abs(det) > 1e-12
     lo = np.floor(quads.min(axis=1)).astype(int)
-    k = int(np.ceil((quads.max(axis=1) - quads.min(axis=1)).max())) + 1
-    off = np.arange(k)
-    step = max(1, _CHUNK // (k * k))
+    kx, ky = (np.ceil((quads.max(axis=1) - quads.min(axis=1)).max(axis=0)).astype(int) + 1).tolist()  # the largest cell's box
+    step = max(1, _CHUNK // (kx * ky))
     for s0 in range(0, len(quads), step):  # chunks of cells, a bounded memory
         sl = slice(s0, s0 + step)
-        cols = lo[sl, 0, None, None] + off[None, None, :]
-        rows = lo[sl, 1, None, None] + off[None, :, None]
+        cols = lo[sl, 0, None, None] + np.arange(kx)[None, None, :]
+        rows = lo[sl, 1, None, None] + np.arange(ky)[None, :, None]
         dx, dy = cols + 0.5 - c0[sl, 0, None, None], rows + 0.5 - c0[sl, 1, None, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             d = det[sl, None, None]
@@ -195,10 +214,15 @@ def _dashes(p: np.ndarray, pattern: tuple, closed: bool) -> list[list[float]]:
 _JOINED = 64
 
 
+#: Groups of paths closer than this are drawn as one (a legend's entries) [px].
+_NEAR = 16
+
+
 def _boxes(c: Canvas, items: list, H: int, W: int) -> list[tuple[tuple[int, int, int, int], list]]:
     """The paths grouped by where they are drawn: (x0, y0, x1, y1) [PNG px, y down] of each group
     and its paths in drawing order; groups whose boxes meet are merged, so the groups' boxes are
-    disjoint and each is drawn on its own (a picture's plan, colour bar, north arrow apart)."""
+    disjoint and each is drawn on its own (a picture's plan, colour bar, north arrow apart); groups nearer than
+    :data:`_NEAR` are merged too."""
     groups = []
     for it in items:
         p = np.vstack(it[1])
@@ -213,7 +237,7 @@ def _boxes(c: Canvas, items: list, H: int, W: int) -> list[tuple[tuple[int, int,
         for i in range(len(groups)):
             for j in range(i + 1, len(groups)):
                 a, b = groups[i], groups[j]
-                if a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]:
+                if a[0] < b[2] + _NEAR and b[0] < a[2] + _NEAR and a[1] < b[3] + _NEAR and b[1] < a[3] + _NEAR:
                     groups[i] = [min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3]), a[4] + b[4]]
                     del groups[j]
                     merged = True
@@ -238,7 +262,8 @@ def _path_group(img: np.ndarray, c: Canvas, box: tuple[int, int, int, int], item
 
     S, H = SUPERSAMPLE, img.shape[0]
     x0, y0, x1, y1 = box
-    samples = np.zeros(((y1 - y0) * S, (x1 - x0) * S), dtype=np.uint8)
+    samples = _scratch("samples", ((y1 - y0) * S, (x1 - x0) * S))
+    samples.fill(0)
     ix = _drawable(samples, "L")
     mapped = ix is not None
     ix = ix if mapped else Image.new("L", samples.shape[::-1], 0)
@@ -252,41 +277,46 @@ def _path_group(img: np.ndarray, c: Canvas, box: tuple[int, int, int, int], item
                 palette.append((colour, alpha))
         width = max(1, int(round(lw * c.pt * S)))
         for p in pieces:
-            for q in (_split_nan(p) if not np.isfinite(p).all() else [p]):
-                q = q * flip - shift  # the index image's pixels
-                if fill is not None and len(q) >= 3:
-                    draw.draw_polygon(q.ravel().tolist(), palette.index((fill, alpha)) + 8, 1)
-                if stroke is None:
-                    continue
-                ink = palette.index((stroke, alpha)) + 8
-                if dash:
-                    for r in _dashes(q, tuple(v * c.pt * S for v in dash), closed):  # one per dash
-                        draw.draw_lines(r, ink, width)
-                    continue
-                draw.draw_lines((np.vstack([q, q[:1]]) if closed else q).ravel().tolist(), ink, width)
-                if width > 2 and 2 < len(q) <= _JOINED:  # round joins
-                    for x, y in (q if closed else q[1:-1]).tolist():
-                        draw.draw_ellipse((x - width / 2, y - width / 2, x + width / 2, y + width / 2), ink, 1, 0)
+            q = p * flip - shift  # the index image's pixels
+            if fill is not None and len(q) >= 3:
+                draw.draw_polygon(q.ravel().tolist(), palette.index((fill, alpha)) + 8, 1)
+            if stroke is None:
+                continue
+            ink = palette.index((stroke, alpha)) + 8
+            if dash:
+                for r in _dashes(q, tuple(v * c.pt * S for v in dash), closed):  # one per dash
+                    draw.draw_lines(r, ink, width)
+                continue
+            draw.draw_lines((np.vstack([q, q[:1]]) if closed else q).ravel().tolist(), ink, width)
+            if width > 2 and 2 < len(q) <= _JOINED:  # round joins
+                for x, y in (q if closed else q[1:-1]).tolist():
+                    draw.draw_ellipse((x - width / 2, y - width / 2, x + width / 2, y + width / 2), ink, 1, 0)
     ty, tx = np.nonzero(np.asarray(ix.reduce(S)))
     if not len(ty):
         return
-    sub = (samples if mapped else np.asarray(ix)).reshape(y1 - y0, S, x1 - x0, S)[ty, :, tx, :].reshape(len(ty), S * S)
+    # each pixel's S x S samples: its S rows of S bytes, read as S 32-bit words (S = 4)
+    words = (samples if mapped else np.ascontiguousarray(np.asarray(ix))).view(np.uint32).ravel()
+    at = (ty[:, None] * S + np.arange(S)[None, :]) * (x1 - x0) + tx[:, None]
+    sub = words[at].view(np.uint8).reshape(len(ty), S * S)
+    region = img[y0:y1, x0:x1]
+    pal = np.array([colour_rgb(col) for col, _ in palette], dtype=float)
+    alpha = np.array([al for _, al in palette])
+    # a pixel all of whose samples have one index (inside a thick line) takes its colour at once
+    first = sub[:, 0]
+    same = first.astype(np.uint64) * np.uint64(0x0101010101010101)
+    pure = np.all(sub.view(np.uint64) == same[:, None], axis=1)
+    k = first[pure].astype(np.intp) - 8
+    py, px = ty[pure], tx[pure]
+    region[py, px] = np.round(region[py, px] * (1.0 - alpha[k])[:, None] + pal[k] * alpha[k][:, None]).astype(np.uint8)
+    # the others: the mean of their samples, each the pixel below or a colour over it
+    ty, tx, sub = ty[~pure], tx[~pure], sub[~pure]
     n = len(palette) + 8
     counts = np.bincount((np.arange(len(ty))[:, None] * n + sub).ravel(), minlength=len(ty) * n).reshape(len(ty), n)[:, 8:]
-    w = counts * np.array([al for _, al in palette])[None, :] / (S * S)
-    pal = np.array([colour_rgb(col) for col, _ in palette], dtype=float)
-    region = img[y0:y1, x0:x1]
-    below = region[ty, tx].astype(float)
-    region[ty, tx] = np.clip(np.round(below * (1 - w.sum(axis=1))[:, None] + w @ pal), 0, 255).astype(np.uint8)
-
-
-def _split_nan(p: np.ndarray) -> list[np.ndarray]:
-    """The runs of finite points of a polyline with NaN breaks."""
-    ok = np.all(np.isfinite(p), axis=1)
-    if ok.all():
-        return [p]
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(np.int8), [0]])))
-    return [p[a:b] for a, b in zip(edges[::2], edges[1::2]) if b - a >= 2]
+    w = counts * (alpha / (S * S))[None, :]
+    out = region[ty, tx] * (1.0 - w.sum(axis=1))[:, None]
+    for j in range(len(palette)):  # a few colours (no BLAS for a 3-column product)
+        out += w[:, j, None] * pal[j]
+    region[ty, tx] = np.clip(np.round(out), 0, 255).astype(np.uint8)
 
 
 def _markers(img: np.ndarray, c: Canvas, item) -> None:
@@ -329,32 +359,39 @@ def text_box(c: Canvas, lines: list, size: float, ha: str, bold: bool, pad: floa
     return min(xs) - p, min(ys) - p, max(xs) + p, max(ys) + p
 
 
-def _text(im, c: Canvas, x, y, s, size, ha, va, colour, bold, rotation, box) -> None:
-    """A text item drawn by FreeType onto the Pillow image ``im``."""
+@functools.lru_cache(maxsize=4096)
+def _glyphs(line: str, size_px: float, bold: bool, ha: str, rotation: int):
+    """A line of text as a coverage mask (an ``"L"`` image) and the offset [px] from its anchor (the
+    baseline at its left, centre or right) to the mask's top-left corner, rotated by 0 or 90 deg
+    counter-clockwise. Kept for the next picture: a process draws the same labels again and again."""
     from PIL import Image, ImageDraw
 
+    f = font(size_px, bold)
+    anchor = {"left": "l", "center": "m", "right": "r"}[ha] + "s"
+    left, top, right, bottom = f.getbbox(line, anchor=anchor)
+    if right <= left or bottom <= top:
+        return None, (0, 0)
+    mask = Image.new("L", (right - left, bottom - top), 0)
+    ImageDraw.Draw(mask).text((-left, -top), line, fill=255, font=f, anchor=anchor)
+    if rotation == 90:  # (u, v) of the text -> (v, -u) of the picture
+        return mask.transpose(Image.Transpose.ROTATE_90), (top, -right)
+    return mask, (left, top)
+
+
+def _text(im, c: Canvas, x, y, s, size, ha, va, colour, bold, rotation, box) -> None:
+    """A text item drawn onto the Pillow image ``im``: each line's FreeType coverage (:func:`_glyphs`)
+    at a whole pixel, in its colour; its box first."""
+    from PIL import Image
+
     H = im.height
-    em = size * c.pt
-    f = font(em, bold)
     lines = c.lines_of(x, y, s, size, ha, va, rotation)
-    draw = ImageDraw.Draw(im)
-    rgb = colour_rgb(colour)
     if box is not None:
         bx0, by0, bx1, by1 = text_box(c, lines, size, ha, bold, box[2])
         w, h = int(round(bx1 - bx0)), int(round(by1 - by0))
         if w > 0 and h > 0:
-            mask = Image.new("L", (w, h), 0)
-            ImageDraw.Draw(mask).rounded_rectangle((0, 0, w - 1, h - 1), radius=0.3 * em, fill=int(round(255 * box[1])))
-            im.paste(colour_rgb(box[0]), (int(round(bx0)), int(round(H - by1))), mask)
-    anchor = {"left": "l", "center": "m", "right": "r"}[ha] + "s"
+            im.paste(colour_rgb(box[0]), (int(round(bx0)), int(round(H - by1))), Image.new("L", (w, h), int(round(255 * box[1]))))
+    rgb = colour_rgb(colour)
     for line, lx, ly in lines:
-        if rotation == 90:
-            w = int(math.ceil(f.getlength(line))) + 2
-            asc, desc = f.getmetrics()
-            tmp = Image.new("L", (w, asc + desc + 2), 0)
-            ImageDraw.Draw(tmp).text((1, 1 + asc), line, fill=255, font=f, anchor="ls")
-            rot = tmp.rotate(90, expand=True)
-            u = 1 + {"left": 0.0, "center": 0.5 * (w - 2), "right": w - 2.0}[ha]
-            im.paste(rgb, (int(round(lx - 1 - asc)), int(round(H - ly - (w - u)))), rot)
-        else:
-            draw.text((lx, H - ly), line, fill=rgb, font=f, anchor=anchor)
+        mask, (ox, oy) = _glyphs(line, size * c.pt, bold, ha, rotation)
+        if mask is not None:
+            im.paste(rgb, (int(round(lx)) + ox, int(round(H - ly)) + oy), mask)
