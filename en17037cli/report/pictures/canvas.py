@@ -1,5 +1,5 @@
-"""The canvas of the pictures: what a picture holds, written as SVG text here and drawn as PNG by
-:mod:`.raster`, without matplotlib.
+"""The canvas of the pictures: what a picture holds, written as SVG by :mod:`.svg` and drawn as PNG
+by :mod:`.raster` (:func:`.raster.render`), without matplotlib.
 
 A picture is laid out in *layout pixels* from its bottom-left corner, y up, and printed at
 ``scale`` of its size: a picture of ``size_px`` layout pixels is ``scale x size_px / 100`` inches,
@@ -15,13 +15,13 @@ The same canvas gives byte-identical PNG and SVG on one installation (no dates, 
 """
 from __future__ import annotations
 
-import base64
-import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from en17037cli.report.pictures.text import ASCENT, DESCENT, font
 
 #: Layout pixels per inch at scale 1 (a picture's PNG has one pixel per layout pixel).
 DPI = 100
@@ -32,10 +32,6 @@ MIN_FONT_PT = 8.0
 PRINT_SCALE = 0.69
 #: Line spacing of text of several lines [font sizes] (as matplotlib set it).
 LINE_SPACING = 1.2
-#: The height of a line of text above and below its baseline [em]: the top of DejaVu Sans's "l" and
-#: the bottom of its "p" (1556 and 426 of 2048 units), the box matplotlib aligns a line of text by.
-ASCENT, DESCENT = 1556 / 2048, 426 / 2048
-
 _NAMED = {"black": "#000000", "white": "#ffffff"}
 _XML_BAD = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
@@ -58,12 +54,6 @@ def xml_text(s: str) -> str:
     """Text as XML character data: ``&``, ``<``, ``>`` escaped, characters XML 1.0 cannot hold as U+FFFD."""
     s = _XML_BAD.sub("\ufffd", str(s))
     return s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-
-
-def _n(v: float) -> str:
-    """A coordinate for the SVG: two decimals, never an exponent."""
-    s = f"{v:.2f}".rstrip("0").rstrip(".")
-    return "0" if s in ("-0", "") else s
 
 
 def split_nan(p: np.ndarray) -> list[np.ndarray]:
@@ -101,7 +91,9 @@ class Canvas:
         return DPI / 72.0 / self.scale
 
     def image(self, rgb: np.ndarray, box: tuple[int, int, int, int]) -> None:
-        """An RGB image (h, w, 3) uint8 pixel for pixel in ``box`` (left, bottom, w, h) [whole layout px]."""
+        """An RGB image (r, c, 3) uint8 in ``box`` (left, bottom, w, h) [whole layout px], row 0 at
+        the top: pixel for pixel where (r, c) = (h, w), else each pixel the nearest of the image's
+        (the SVG holds the image as it is, scaled without smoothing)."""
         self.items.append(("image", np.ascontiguousarray(rgb, dtype=np.uint8), tuple(int(v) for v in box)))
 
     def cells(self, quads: np.ndarray, rgb: np.ndarray) -> None:
@@ -121,8 +113,10 @@ class Canvas:
         pieces = [q for p in (xy if isinstance(xy, list) else [xy]) for q in split_nan(np.asarray(p, dtype=float).reshape(-1, 2))]
         pieces = [_thinned(p) if len(p) > 64 else p for p in pieces]  # a long curve's points 2 px apart
         if pieces and (stroke is not None or fill is not None):
+            allp = np.vstack(pieces)
+            box = (float(allp[:, 0].min()), float(allp[:, 1].min()), float(allp[:, 0].max()), float(allp[:, 1].max()))
             self.items.append(("path", pieces, None if stroke is None else colour_hex(stroke), float(lw),
-                               None if fill is None else colour_hex(fill), bool(closed), tuple(dash) if dash else None, alpha))
+                               None if fill is None else colour_hex(fill), bool(closed), tuple(dash) if dash else None, alpha, box))
 
     def rect(self, x: float, y: float, w: float, h: float, **kw) -> None:
         """A rectangle from its bottom-left corner (x, y) [layout px]; keywords of :meth:`path`."""
@@ -163,118 +157,9 @@ class Canvas:
 
     def text_width(self, s: str, size: float = MIN_FONT_PT, bold: bool = False) -> float:
         """Width [layout px] of the widest line of ``s`` in DejaVu Sans at ``size`` [pt]."""
-        from en17037cli.report.pictures.raster import font
-
         f = font(size * self.pt, bold)
         return max(f.getlength(line) for line in str(s).split("\n"))
 
-    def render(self, fmt: str = "png"):
-        """The PNG bytes, the SVG as UTF-8 bytes, or for ``fmt="both"`` the pair (png, svg)."""
-        if fmt not in ("png", "svg", "both"):
-            raise ValueError(f"fmt must be 'png', 'svg' or 'both', not {fmt!r}")
-        from en17037cli.report.pictures.raster import png
-
-        if fmt == "png":
-            return png(self)
-        return (png(self), svg(self)) if fmt == "both" else svg(self)
-
-
-def svg(c: Canvas) -> bytes:
-    """The canvas as an SVG document: vector paths, cells without anti-aliasing, images as inline
-    PNG, text as text; its size in printed points, its ``viewBox`` in layout pixels (y down)."""
-    from en17037cli.report.pictures.raster import encode_png
-
-    W, H = c.width, c.height
-    out = ['<?xml version="1.0" encoding="utf-8" standalone="no"?>\n'
-           f'<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="{_n(W * c.scale * 0.72)}pt" '
-           f'height="{_n(H * c.scale * 0.72)}pt" viewBox="0 0 {W} {H}" version="1.1">\n'
-           f'<rect width="{W}" height="{H}" style="fill: #ffffff"/>\n']
-    for item in c.items:
-        kind = item[0]
-        if kind == "image":
-            _, rgb, (x0, y0, w, h) = item
-            data = base64.b64encode(encode_png(rgb)).decode("ascii")
-            out.append(f'<image x="{x0}" y="{H - y0 - h}" width="{w}" height="{h}" preserveAspectRatio="none" '
-                       f'style="image-rendering: pixelated" xlink:href="data:image/png;base64,{data}"/>\n')
-        elif kind == "cells":
-            out.append(_svg_cells(item[1], item[2], H))
-        elif kind == "path":
-            out.append(_svg_path(c, *item[1:], H))
-        elif kind == "markers":
-            _, p, size, fill, stroke, lw = item
-            r = 0.5 * size * c.pt
-            style = f"fill: {fill or 'none'}" + (f"; stroke: {stroke}; stroke-width: {_n(lw * c.pt)}" if stroke else "")
-            arc = f"a{_n(r)} {_n(r)} 0 1 0 {_n(2 * r)} 0a{_n(r)} {_n(r)} 0 1 0 {_n(-2 * r)} 0z"
-            d = ("M%.2f %.2f" + arc.replace("%", "%%")) * len(p) % tuple(np.column_stack([p[:, 0] - r, H - p[:, 1]]).ravel().tolist())
-            out.append(f'<path d="{d}" style="{style}"/>\n')
-        else:
-            out.append(_svg_text(c, *item[1:], H))
-    out.append("</svg>\n")
-    return "".join(out).encode("utf-8")
-
-
-def _svg_cells(quads: np.ndarray, rgb: np.ndarray, H: int) -> str:
-    """One path per colour (cells grouped by colour), not anti-aliased: no seams between cells."""
-    q = quads.copy()
-    q[..., 1] = H - q[..., 1]
-    key = (rgb[:, 0].astype(np.int64) << 16) | (rgb[:, 1].astype(np.int64) << 8) | rgb[:, 2]
-    order = np.argsort(key, kind="stable")
-    keys, starts = np.unique(key[order], return_index=True)
-    ends = np.append(starts[1:], len(order))
-    out = ['<g style="shape-rendering: crispEdges">\n']
-    for k, a, b in zip(keys, starts, ends):  # one per colour
-        flat = tuple(q[order[a:b]].reshape(-1).tolist())
-        d = ("M%.2f %.2fL%.2f %.2fL%.2f %.2fL%.2f %.2fZ" * (b - a)) % flat
-        out.append(f'<path d="{d}" style="fill: #{int(k):06x}"/>\n')
-    out.append("</g>\n")
-    return "".join(out)
-
-
-def _svg_d(p: np.ndarray, H: float, closed: bool) -> str:
-    """The ``d`` of a polyline (k, 2) [layout px, y up]: two decimals (one format of all its points)."""
-    q = p.copy()
-    q[:, 1] = H - q[:, 1]
-    return "M" + ("%.2f %.2fL" * len(q) % tuple(q.ravel().tolist()))[:-1] + ("Z" if closed else "")
-
-
-def _svg_path(c: Canvas, pieces, stroke, lw, fill, closed, dash, alpha, H) -> str:
-    d = "".join(_svg_d(p, H, closed) for p in pieces)
-    style = [f"fill: {fill}" if fill else "fill: none"]
-    if stroke:
-        style.append(f"stroke: {stroke}; stroke-width: {_n(lw * c.pt)}; stroke-linecap: butt; stroke-linejoin: round")
-        if dash:
-            style.append("stroke-dasharray: " + ",".join(_n(v * c.pt) for v in dash))
-    if alpha < 1:
-        style.append(f"opacity: {alpha:g}")
-    return f'<path d="{d}" style="{"; ".join(style)}"/>\n'
-
-
-def _svg_text(c: Canvas, x, y, s, size, ha, va, colour, bold, rotation, box, H) -> str:
-    em = size * c.pt
-    anchor = {"left": "start", "center": "middle", "right": "end"}[ha]
-    style = (("font-weight: 700; " if bold else "") + f"font-size: {math.ceil(em * 1000) / 1000:g}px; "
-             f"font-family: 'DejaVu Sans', sans-serif; text-anchor: {anchor}" + ("" if colour == "#000000" else f"; fill: {colour}"))
-    out = []
-    lines = c.lines_of(x, y, s, size, ha, va, rotation)
-    if box is not None:
-        from en17037cli.report.pictures.raster import text_box
-
-        x0, y0, x1, y1 = text_box(c, lines, size, ha, bold, box[2])
-        out.append(f'<rect x="{_n(x0)}" y="{_n(H - y1)}" width="{_n(x1 - x0)}" height="{_n(y1 - y0)}" rx="{_n(0.3 * em)}" '
-                   f'style="fill: {colour_hex(box[0])}; opacity: {box[1]:g}"/>\n')
-    for line, lx, ly in lines:
-        rot = f' transform="rotate(-90 {_n(lx)} {_n(H - ly)})"' if rotation == 90 else ""
-        out.append(f'<text style="{style}" x="{_n(lx)}" y="{_n(H - ly)}"{rot}>{xml_text(line)}</text>\n')
-    return "".join(out)
-
-
-def warm_up() -> None:
-    """Load the drawing code and the fonts by drawing a tiny picture: the first picture's fixed cost,
-    for a caller to pay in a background process while it traces rays."""
-    c = Canvas(20, 20)
-    c.text(2, 10, "0°")
-    c.path(np.array([[0, 0], [10, 10]]))
-    c.render("both")
 
 
 def _fmt_num(v: float) -> str:

@@ -1,14 +1,15 @@
 """Charts: the hours of sunlight per day over the assessment period, and the tornado chart of a score's sensitivity."""
 from __future__ import annotations
 
-from collections.abc import Sequence
+import io
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from en17037cli.report.numbers import fmt_duration, fmt_hm
-from en17037cli.report.pictures.canvas import MIN_FONT_PT, Canvas
+from en17037cli.report.pictures.canvas import DPI, MIN_FONT_PT, PRINT_SCALE, Canvas
 from en17037cli.report.pictures.colours import ASSESSED_COLOUR, BAR_COLOUR, _rgb
-from en17037cli.report.pictures.mpl import _render
+from en17037cli.report.pictures.raster import render
 
 #: Layout size of the hours chart [in / 100 px] (width, height); printed at PRINT_SCALE (3.45 x 2.2 in).
 CHART_SIZE_IN = (5.0, 3.2)
@@ -96,7 +97,7 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
         c.text(X(k) + (6 if right else -6) * c.pt, Y(float(np.nan_to_num(hrs[k]))) + 3 * c.pt,
                f"assessed {_date_label(dates[k])}:\n{fmt_duration(hrs[k])}", ha="left" if right else "right", va="bottom",
                box=("white", 0.85, 0.15))
-    return c.render(fmt)
+    return render(c, fmt)
 
 
 #: Spacing of the assessed bar's hatching [layout px].
@@ -140,6 +141,52 @@ def _line_legend(c: Canvas, x: float, y: float, entries: list) -> None:
         c.path(np.array([[x, cy], [x + 2.5 * em, cy]]), stroke="black", lw=0.8, dash=(None, (3, 1.5), (1, 1.5), (5, 1.5, 1, 1.5))[i % 4])
         c.text(x + 3.3 * em, cy, label, va="center")
         y -= 1.3 * em
+
+
+#: matplotlib's settings for the tornado chart (the one picture matplotlib still draws: a study's,
+#: not a report's): its default style, DejaVu Sans, text never parsed as TeX, text kept as text in SVG.
+_RC: dict = {
+    # Text from a model (names, GlobalIds, whose alphabet includes "$") is data: never parsed as TeX
+    # mathematics ("$...$"), which stopped AC11-Institute's run on "...IBf$$ZaZkjsa)" (issue 43).
+    "text.parse_math": False,
+    "font.family": "DejaVu Sans",
+    "font.size": 8,
+    "svg.hashsalt": "en17037cli",
+    "svg.fonttype": "none",  # text stays text in the SVG: selectable, and measurable in a browser
+    "lines.scale_dashes": False,
+    "axes.titlesize": 9,
+    "axes.labelsize": 8,
+    "legend.fontsize": 8,
+    "legend.frameon": False,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+}
+
+
+def _render(draw: Callable, size_px: tuple[float, float], scale: float = PRINT_SCALE, fmt: str = "png"):
+    """Draw on a fresh figure of ``size_px`` layout pixels printed ``scale`` x ``size_px / 100`` in.
+
+    Returns the PNG bytes (one pixel per layout pixel), the SVG text as UTF-8 bytes, or for
+    ``fmt="both"`` the pair (png, svg), drawn once.
+    """
+    import matplotlib
+    import matplotlib.style
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    dpi = DPI / scale
+    with matplotlib.style.context("default"), matplotlib.rc_context(_RC):  # the user's matplotlibrc does not leak in
+        fig = Figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
+        fig.en17037_scale = scale
+        FigureCanvasAgg(fig)
+        draw(fig)
+        out = {}
+        for kind in (("png", "svg") if fmt == "both" else (fmt,)):
+            buf = io.BytesIO()
+            meta = {"Software": None} if kind == "png" else {"Date": None, "Creator": None}
+            fig.savefig(buf, format=kind, dpi=dpi, metadata=meta)
+            out[kind] = buf.getvalue()
+    return (out["png"], out["svg"]) if fmt == "both" else out[fmt]
 
 
 def tornado(rows: Sequence[tuple[str, float, float, float]], *, title: str = "") -> bytes:

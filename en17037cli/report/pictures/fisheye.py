@@ -16,6 +16,7 @@ from en17037cli.geometry.fisheye import fisheye_directions, fisheye_pixel_xy, fi
 from en17037cli.report.pictures import colours
 from en17037cli.report.pictures.canvas import DPI, Canvas, _fmt_num
 from en17037cli.report.pictures.parts import legend
+from en17037cli.report.pictures.raster import render
 
 __all__ = ["fisheye", "fisheye_directions", "fisheye_pixel", "fisheye_pixel_xy", "fisheye_xy"]
 
@@ -217,7 +218,7 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
     if dots:  # the hour marks' dots over every line
         d = np.vstack(dots)
         c.markers(to_px(d[:, 0], d[:, 1]), 2.8, fill="black", stroke="white", lw=0.5)
-    return c.render(fmt)
+    return render(c, fmt)
 
 
 def _compass_name(azimuth_deg: float) -> str:

@@ -18,6 +18,7 @@ from en17037cli.report.pictures.colours import (
     continuous_colours,
 )
 from en17037cli.report.pictures.parts import colour_bar, legend, north_arrow, scale_bar
+from en17037cli.report.pictures.raster import render
 
 #: Layout size [in / 100 px] (width, height); printed at PRINT_SCALE of it (3.5 x 2.8 in).
 PLAN_SIZE_IN = (5.0, 3.6)
@@ -229,7 +230,7 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     if has_near:  # rings last: one pass of markers over the paths
         for colour, mew in (("white", 2.0), ("black", 0.9)):
             c.markers(to_px(pts_t[near_m]), 5, stroke=colour, lw=mew)
-    return c.render(fmt)
+    return render(c, fmt)
 
 
 def _plan_colours(kind: str, vals: np.ndarray, thresholds: dict | None):
