@@ -40,15 +40,16 @@ def _drawable(name: str, shape: tuple[int, ...], mode: str):
     from PIL import Image
 
     images = _IMAGES.__dict__.setdefault("images", {})
-    key = (name, shape, mode)
+    mapped = _maps_buffers()
+    key = (name, shape, mode, mapped)
     if key not in images:
-        a = scratch(name, shape).copy() if _maps_buffers() else None  # its own buffer, kept with its image
-        if a is None:
-            images[key] = (None, Image.new("RGB" if mode == "RGBX" else mode, (shape[1], shape[0])))
-        else:
+        if mapped:
+            a = np.empty(shape, dtype=np.uint8)  # its own buffer, kept with its image
             im = Image.frombuffer(mode, (shape[1], shape[0]), a, "raw", mode, 0, 1)
             im.readonly = 0
             images[key] = (a, im)
+        else:
+            images[key] = (None, Image.new("RGB" if mode == "RGBX" else mode, (shape[1], shape[0])))
     return images[key]
 
 

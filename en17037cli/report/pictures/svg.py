@@ -22,13 +22,15 @@ def _n(v: float) -> str:
 
 def svg(c: Canvas) -> bytes:
     """The canvas as an SVG document: vector paths, cells without anti-aliasing, images as inline
-    PNG, text as text; its size in printed points, its ``viewBox`` in layout pixels (y down)."""
+    PNG, text as text; its size in printed points, its ``viewBox`` in layout pixels (y down). The
+    layers of the PNG (:mod:`.raster`): images and cells, then paths and markers, then text."""
     W, H = c.width, c.height
     out = ['<?xml version="1.0" encoding="utf-8" standalone="no"?>\n'
            f'<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="{_n(W * c.scale * 0.72)}pt" '
            f'height="{_n(H * c.scale * 0.72)}pt" viewBox="0 0 {W} {H}" version="1.1">\n'
            f'<rect width="{W}" height="{H}" style="fill: #ffffff"/>\n']
-    for item in c.items:
+    layer = {"image": 0, "cells": 0, "path": 1, "markers": 1, "text": 2}  # as the PNG draws them: text on top
+    for item in sorted(c.items, key=lambda it: layer[it[0]]):  # a stable sort: in order within a layer
         kind = item[0]
         if kind == "image":
             _, rgb, (x0, y0, w, h) = item
