@@ -65,10 +65,10 @@ def split_nan(p: np.ndarray) -> list[np.ndarray]:
     return [p[a:b] for a, b in zip(edges[::2], edges[1::2]) if b - a >= 2]
 
 
-def _thinned(p: np.ndarray, step_px: float = 2.0) -> np.ndarray:
+def _thinned(p: np.ndarray, step_px: float = 6.0) -> np.ndarray:
     """A long polyline (k, 2) [layout px] with its points at least about ``step_px`` apart along it
     (the first point of each step, and the last point): a sun path sampled every 2 min has points
-    half a pixel apart, and a chord of 2 px on a curve of radius 100 px is 0.005 px off it."""
+    half a pixel apart, and a chord of 6 px on a curve of radius 100 px is 0.05 px off it."""
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
     _, first = np.unique(np.floor(s / step_px), return_index=True)
     if first[-1] != len(p) - 1:
@@ -90,11 +90,13 @@ class Canvas:
         """Layout pixels per printed point."""
         return DPI / 72.0 / self.scale
 
-    def image(self, rgb: np.ndarray, box: tuple[int, int, int, int]) -> None:
-        """An RGB image (r, c, 3) uint8 in ``box`` (left, bottom, w, h) [whole layout px], row 0 at
-        the top: pixel for pixel where (r, c) = (h, w), else each pixel the nearest of the image's
-        (the SVG holds the image as it is, scaled without smoothing)."""
-        self.items.append(("image", np.ascontiguousarray(rgb, dtype=np.uint8), tuple(int(v) for v in box)))
+    def image(self, pixels: np.ndarray, box: tuple[int, int, int, int], palette: np.ndarray | None = None) -> None:
+        """An image in ``box`` (left, bottom, w, h) [whole layout px], row 0 at the top: RGB (r, c, 3)
+        uint8, or indices (r, c) uint8 into ``palette`` (k, 3) uint8 (a class raster); pixel for pixel
+        where (r, c) = (h, w), else each pixel the nearest of the image's (the SVG holds the image as
+        it is, scaled without smoothing)."""
+        pal = None if palette is None else np.ascontiguousarray(palette, dtype=np.uint8).reshape(-1, 3)
+        self.items.append(("image", np.ascontiguousarray(pixels, dtype=np.uint8), tuple(int(v) for v in box), pal))
 
     def cells(self, quads: np.ndarray, rgb: np.ndarray) -> None:
         """Parallelograms (n, 4, 2) [layout px, corners in turn] filled with (n, 3) uint8 colours, not
@@ -111,7 +113,7 @@ class Canvas:
         line's ends are butt, its joins round; alpha : opacity of the stroke and fill.
         """
         pieces = [q for p in (xy if isinstance(xy, list) else [xy]) for q in split_nan(np.asarray(p, dtype=float).reshape(-1, 2))]
-        pieces = [_thinned(p) if len(p) > 64 else p for p in pieces]  # a long curve's points 2 px apart
+        pieces = [_thinned(p) if len(p) > 64 else p for p in pieces]  # a long curve's points 6 px apart
         if pieces and (stroke is not None or fill is not None):
             allp = np.vstack(pieces)
             box = (float(allp[:, 0].min()), float(allp[:, 1].min()), float(allp[:, 0].max()), float(allp[:, 1].max()))

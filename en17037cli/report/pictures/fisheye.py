@@ -61,15 +61,16 @@ def _resampling(n: int, m: int) -> tuple[np.ndarray, np.ndarray]:
     return src, np.hypot(x, y) > 1.0
 
 
-def _fisheye_raster(image: np.ndarray) -> np.ndarray:
-    """The class raster as (2R, 2R, 3) uint8 pixels of the PNG, nearest source pixel, white outside the circle."""
+def _fisheye_raster(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The class raster as (2R, 2R) indices of the PNG's pixels (the class + 1, nearest source
+    pixel, 0 outside the circle) and their palette (5, 3) uint8, :data:`~.colours.CLASS_COLOURS`."""
     src, outside = _resampling(image.shape[0], 2 * FISHEYE_RADIUS_PX)
-    classes = np.clip(image.astype(np.int8)[src][:, src], colours.OUTSIDE, colours.CLASS_GROUND)
-    classes[outside] = colours.OUTSIDE
-    lut = np.zeros((5, 3), dtype=np.uint8)
+    index = (np.clip(image.astype(np.int8)[src][:, src], colours.OUTSIDE, colours.CLASS_GROUND) + 1).astype(np.uint8)
+    index[outside] = colours.OUTSIDE + 1
+    palette = np.zeros((5, 3), dtype=np.uint8)
     for k, colour in colours.CLASS_COLOURS.items():
-        lut[k + 1] = np.round(colours._rgb([colour])[0] * 255).astype(np.uint8)
-    return lut[classes.astype(np.intp) + 1]
+        palette[k + 1] = np.round(colours._rgb([colour])[0] * 255).astype(np.uint8)
+    return index, palette
 
 
 _COMPASS = (("N", 0), ("NE", 45), ("E", 90), ("SE", 135), ("S", 180), ("SW", 225), ("W", 270), ("NW", 315))
@@ -122,7 +123,7 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
     img = np.asarray(image)
     if img.ndim != 2 or img.shape[0] != img.shape[1]:
         raise ValueError(f"image must have shape (N, N), not {img.shape}")
-    raster = _fisheye_raster(img)
+    raster, palette = _fisheye_raster(img)
     R = float(FISHEYE_RADIUS_PX)
     height_px = FISHEYE_SIZE_IN[1] * DPI
     cx, cy = float(FISHEYE_CENTRE_PX[0]), height_px - FISHEYE_CENTRE_PX[1]  # layout px, y up
@@ -134,8 +135,8 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
     def text(x, y, s, dy=0.0, box=None, **kw):
         c.text(cx + R * x, cy + R * y + dy * pt, s, box=None if box is None else ("white", 0.7, box), **kw)
 
-    c.image(raster, (int(cx - R), int(cy - R), raster.shape[1], raster.shape[0]))
-    ring = np.linspace(0.0, 2.0 * math.pi, 361)
+    c.image(raster, (int(cx - R), int(cy - R), raster.shape[1], raster.shape[0]), palette=palette)
+    ring = np.linspace(0.0, 2.0 * math.pi, 121)  # 7 px chords: 0.05 px off the circle
     line(np.cos(ring), np.sin(ring), stroke="black", lw=1.0, closed=True)
     line([-1, 1], [0, 0], stroke="black", lw=0.5, alpha=0.6)  # horizon
     # minimum sun altitude: the curve altitude = const within the field

@@ -13,27 +13,34 @@ import numpy as np
 PNG_LEVEL = 1
 
 
-def encode_png(rgb: np.ndarray, dpi: float | None = None) -> bytes:
-    """PNG bytes of an RGB image (h, w, 3) or RGBX image (h, w, 4) uint8: 8 bits a channel, rows
-    unfiltered (the pictures' flat colours compress well without), zlib at :data:`PNG_LEVEL`; its
-    resolution (``pHYs``) if ``dpi`` is given, no date and no version string.
+def encode_png(rgb: np.ndarray, dpi: float | None = None, palette: np.ndarray | None = None) -> bytes:
+    """PNG bytes of an RGB image (h, w, 3) or RGBX image (h, w, 4) uint8, 8 bits a channel, or of
+    indices (h, w) uint8 into ``palette`` (k, 3) uint8, k <= 256: rows unfiltered (the pictures'
+    flat colours compress well without), zlib at :data:`PNG_LEVEL`; its resolution (``pHYs``) if
+    ``dpi`` is given, no date and no version string.
 
     References
     ----------
     W3C, Portable Network Graphics (PNG) Specification, 3rd ed. (2025), 5 (chunks), 11.2.1 (IHDR),
-    11.3.5.3 (pHYs), 7.3 and 9 (filter type 0).
+    11.2.2 (PLTE), 11.3.5.3 (pHYs), 7.3 and 9 (filter type 0).
     """
     h, w = rgb.shape[:2]
-    raw = scratch("raw", (h, 1 + 3 * w))  # each row: its filter type (0, none), then its pixels
+    depth = 1 if palette is not None else 3
+    raw = scratch("raw", (h, 1 + depth * w))  # each row: its filter type (0, none), then its pixels
     raw[:, 0] = 0
-    pixels = raw[:, 1:].reshape(h, w, 3)
-    for k in range(3):  # a channel at a time: numpy copies every fourth byte slowly
-        pixels[..., k] = rgb[..., k]
+    if palette is not None:
+        raw[:, 1:] = rgb
+    else:
+        pixels = raw[:, 1:].reshape(h, w, 3)
+        for k in range(3):  # a channel at a time: numpy copies every fourth byte slowly
+            pixels[..., k] = rgb[..., k]
 
     def chunk(kind: bytes, data: bytes) -> bytes:
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
 
-    out = [b"\x89PNG\r\n\x1a\n", chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))]
+    out = [b"\x89PNG\r\n\x1a\n", chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 3 if palette is not None else 2, 0, 0, 0))]
+    if palette is not None:
+        out.append(chunk(b"PLTE", np.ascontiguousarray(palette, dtype=np.uint8).tobytes()))
     if dpi:
         ppm = int(round(dpi / 0.0254))
         out.append(chunk(b"pHYs", struct.pack(">IIB", ppm, ppm, 1)))

@@ -89,22 +89,23 @@ def png(c: Canvas) -> bytes:
     buf = np.empty((H, W, 4), dtype=np.uint8) if buf is None else buf
     buf.fill(255)
     img = buf[..., :3]
+    px = buf.view("<u4").reshape(H, W)  # a pixel a word: R | G << 8 | B << 16 | X << 24
     for item in c.items:
         if item[0] == "image":
-            _, rgb, (x0, y0, w, h) = item
-            if rgb.shape[:2] != (h, w):  # nearest pixel
-                rows = np.minimum(((np.arange(h) + 0.5) * rgb.shape[0] / h).astype(int), rgb.shape[0] - 1)
-                cols = np.minimum(((np.arange(w) + 0.5) * rgb.shape[1] / w).astype(int), rgb.shape[1] - 1)
-                rgb = rgb[rows][:, cols]
+            _, pixels, (x0, y0, w, h), palette = item
+            if pixels.shape[:2] != (h, w):  # nearest pixel
+                rows = np.minimum(((np.arange(h) + 0.5) * pixels.shape[0] / h).astype(int), pixels.shape[0] - 1)
+                cols = np.minimum(((np.arange(w) + 0.5) * pixels.shape[1] / w).astype(int), pixels.shape[1] - 1)
+                pixels = pixels[rows][:, cols]
+            words = _pack(palette)[pixels] if palette is not None else _pack(pixels.reshape(-1, 3)).reshape(h, w)
             r0, c0 = H - y0 - h, x0
             r1, c1 = min(r0 + h, H), min(c0 + w, W)
             if r1 > max(r0, 0) and c1 > max(c0, 0):
-                img[max(r0, 0):r1, max(c0, 0):c1] = rgb[max(-r0, 0):r1 - r0, max(-c0, 0):c1 - c0]
+                px[max(r0, 0):r1, max(c0, 0):c1] = words[max(-r0, 0):r1 - r0, max(-c0, 0):c1 - c0]
         elif item[0] == "cells":
             q = item[1].copy()
             q[..., 1] = H - q[..., 1]
-            _fill_cells(buf.view("<u4").reshape(H, W), q, item[2])
-    px = buf.view("<u4").reshape(H, W)  # a pixel a word: R | G << 8 | B << 16 | X << 24
+            _fill_cells(px, q, item[2])
     batch: list = []
     for item in c.items:
         if item[0] == "path":
@@ -267,7 +268,7 @@ def _path_group(px: np.ndarray, c: Canvas, box: tuple[int, int, int, int], items
     ty, tx = ty + y0, tx + x0
     # each pixel's S x S samples: its S rows of S bytes, read as S 32-bit words (S = 4)
     words = (samples if samples is not None else np.asarray(ix)).view(np.uint32).ravel()
-    rows = (ty[:, None] * S + np.arange(S)[None, :]) * W + tx[:, None]
+    rows = (ty * (S * W) + tx)[:, None] + np.arange(0, S * W, W)[None, :]
     sub = words[rows].view(np.uint8).reshape(len(ty), S * S)
     pal = np.array([colour_rgb(col) for col, _ in palette], dtype=float)
     alpha = np.array([al for _, al in palette])

@@ -33,8 +33,8 @@ def svg(c: Canvas) -> bytes:
     for item in sorted(c.items, key=lambda it: layer[it[0]]):  # a stable sort: in order within a layer
         kind = item[0]
         if kind == "image":
-            _, rgb, (x0, y0, w, h) = item
-            data = base64.b64encode(encode_png(rgb)).decode("ascii")
+            _, pixels, (x0, y0, w, h), palette = item
+            data = base64.b64encode(encode_png(pixels, palette=palette)).decode("ascii")
             out.append(f'<image x="{x0}" y="{H - y0 - h}" width="{w}" height="{h}" preserveAspectRatio="none" '
                        f'style="image-rendering: pixelated" xlink:href="data:image/png;base64,{data}"/>\n')
         elif kind == "cells":
