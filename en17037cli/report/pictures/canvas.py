@@ -163,7 +163,6 @@ class Canvas:
         return max(f.getlength(line) for line in str(s).split("\n"))
 
 
-
 def _fmt_num(v: float) -> str:
     """A threshold or bar length without trailing zeros."""
     return f"{v:.6g}"

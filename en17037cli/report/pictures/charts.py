@@ -86,7 +86,7 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
     for name, ls in (("minimum", (1, 1.5)), ("medium", (4, 2)), ("high", None)):
         v = float(thresholds[name])
         c.path(np.array([[left, Y(v)], [left + width, Y(v)]]), stroke="black", lw=0.9, dash=ls)
-        c.text(left + 1.01 * width, Y(v), f"{name} {fmt_hm(v)}", va="center")
+        c.text(left + 1.01 * width, float(Y(v)), f"{name} {fmt_hm(v)}", va="center")
     _axes(c, (left, bottom, width, height), X, Y, xlim, ylim, ymax, dates)
     if lines:
         _line_legend(c, 0.13 * c.width, c.height, [(f"window {_short(n)}", i) for i, n in enumerate(lines)])
@@ -94,7 +94,7 @@ def hours_chart(dates, hours, *, thresholds: dict, assessed_index: int, per_wind
         # beside the bar's top, inside the axes (right of the assessed bar, left of it near the period's end):
         # never over the y tick labels; two lines: one ran into the threshold labels right of the axes
         right = k < 0.6 * d
-        c.text(X(k) + (6 if right else -6) * c.pt, Y(float(np.nan_to_num(hrs[k]))) + 3 * c.pt,
+        c.text(float(X(k)) + (6 if right else -6) * c.pt, float(Y(float(np.nan_to_num(hrs[k])))) + 3 * c.pt,
                f"assessed {_date_label(dates[k])}:\n{fmt_duration(hrs[k])}", ha="left" if right else "right", va="bottom",
                box=("white", 0.85, 0.15))
     return render(c, fmt)

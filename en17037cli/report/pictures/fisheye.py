@@ -217,8 +217,8 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
     ]
     legend(c, cx + R + 22, cy + R, entries, title=f"facing {_compass_name(view_azimuth_deg)} {_fmt_num(round(view_azimuth_deg % 360.0))}°")
     if dots:  # the hour marks' dots over every line
-        d = np.vstack(dots)
-        c.markers(to_px(d[:, 0], d[:, 1]), 2.8, fill="black", stroke="white", lw=0.5)
+        dot = np.vstack(dots)
+        c.markers(to_px(dot[:, 0], dot[:, 1]), 2.8, fill="black", stroke="white", lw=0.5)
     return render(c, fmt)
 
 

@@ -108,7 +108,7 @@ def dgp_carpet(local_times, dgp, *, limits: dict, title: str = "", fmt: str = "p
     box = (52.0, 96.0, 430.0, 200.0)
 
     c = Canvas(int(CARPET_SIZE_IN[0] * 100), int(CARPET_SIZE_IN[1] * 100))
-    c.image(rgb, tuple(int(v) for v in box))
+    c.image(rgb, (int(box[0]), int(box[1]), int(box[2]), int(box[3])))
     c.rect(*box, stroke="black", lw=0.6)
     step = max(1, (h1 - h0) // 5)
     for hh in range(h0, h1 + 1, step):  # a few clock hours

@@ -1,16 +1,16 @@
 """A :class:`~.canvas.Canvas` drawn as PNG with Pillow and numpy (Pillow comes with matplotlib, the
 ``plot`` extra; it is imported inside the functions that draw, so the package imports without it).
 
-One PNG pixel per layout pixel, drawn in four layers whatever the order of the canvas's items
-within a layer: (1) images and cells at their exact colours, without anti-aliasing (a pixel whose
-centre lies in a cell takes its colour, each pixel in at most one cell of a tiling); (2) paths,
-anti-aliased by drawing them at :data:`SUPERSAMPLE` x the resolution as an index image (Pillow's
-polygons and lines, one index per colour) and averaging each pixel's samples, so that a pixel no
-path touches keeps its exact colour; markers, anti-aliased by their coverage (numpy, in their
-place among the paths); (3) text by FreeType (Pillow), with the DejaVu Sans matplotlib bundles.
+One PNG pixel per layout pixel, drawn in three layers, in order within each: (1) images and cells at
+their exact colours, without anti-aliasing (a pixel whose centre lies in a cell takes its colour,
+each pixel in one cell of a tiling); (2) paths, anti-aliased by drawing them at :data:`SUPERSAMPLE` x
+the resolution as an index image (Pillow's polygons and lines in C, one index per colour) and
+averaging each pixel's samples, so that a pixel no path touches keeps its exact colour; markers
+among them, anti-aliased by their coverage (numpy); (3) text by FreeType (:mod:`.text`). The
+picture is held as 32-bit words, one a pixel, which Pillow draws into directly (its RGBX layout).
 
-Reproducible: the same canvas gives the same bytes on one installation (Pillow writes no date and
-no version string; the zlib level is fixed).
+Reproducible: the same canvas gives the same bytes on one installation (:mod:`.pngfile` writes no
+date and no version string, its zlib level is fixed).
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ import threading
 import numpy as np
 
 from en17037cli.report.pictures.canvas import DPI, Canvas, colour_rgb
-from en17037cli.report.pictures.pngfile import encode_png, scratch
+from en17037cli.report.pictures.pngfile import encode_png
 from en17037cli.report.pictures.text import glyphs, text_box
 
 #: Samples per pixel side of the anti-aliased paths (4: a pixel's row of samples is a 32-bit word).
@@ -246,6 +246,8 @@ def _path_group(px: np.ndarray, c: Canvas, box: tuple[int, int, int, int], items
         for colour in (fill, stroke):
             if colour is not None and (colour, alpha) not in palette:
                 palette.append((colour, alpha))
+        if len(palette) > 255 - 8:
+            raise ValueError("the paths of one part of a picture take at most 247 colours")
         width = max(1, int(round(lw * c.pt * S)))
         for p in pieces:
             q = p * flip - shift  # the index image's pixels
