@@ -192,3 +192,19 @@ def test_norms_are_matplotlibs():
     assert np.allclose(Norm(1.0, 155.0, log=True)(v), colors.LogNorm(1.0, 155.0)(v), atol=1e-12)
     assert np.allclose(Norm(0.0, 67.5)(v), colors.Normalize(0.0, 67.5)(v), atol=1e-12)
     assert np.isnan(Norm(1.0, 10.0, log=True)(np.array([0.0, -1.0]))).all()  # no logarithm: the lowest colour's caller fills it
+
+
+def test_a_long_curve_is_thinned_to_chords_close_to_it():
+    """A sun path is sampled every 2 min, half a pixel apart: it is drawn by chords of about 6 px,
+    which stay within s^2 / (8 r) = 0.045 px of a curve of radius r = 100 px (0.1 allowed)."""
+    t = np.linspace(0.0, math.pi, 629)  # 0.5 px steps on a half circle of radius 100 px
+    curve = np.column_stack([250 + 100 * np.cos(t), 100 + 100 * np.sin(t)])
+    c = Canvas(500, 360)
+    c.path(curve, stroke="black", lw=1.0)
+    (chords,) = c.items[0][1]
+    assert 40 <= len(chords) <= 60 and np.array_equal(chords[0], curve[0]) and np.array_equal(chords[-1], curve[-1])
+    a, b = chords[:-1], chords[1:]  # each point of the curve against its nearest chord
+    d = b - a
+    u = np.clip(np.einsum("pij,ij->pi", curve[:, None, :] - a[None], d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
+    dist = np.linalg.norm(curve[:, None, :] - (a[None] + u[..., None] * d[None]), axis=-1).min(axis=1)
+    assert dist.max() < 0.1

@@ -347,5 +347,6 @@ def warm_up() -> None:
     for a caller to pay in a background process while it traces rays."""
     c = Canvas(20, 20)
     c.text(2, 10, "0°")
+    c.text(2, 10, "N", bold=True)
     c.path(np.array([[0, 0], [10, 10]]))
     render(c, "both")
