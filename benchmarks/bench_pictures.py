@@ -71,8 +71,9 @@ print(json.dumps({"rows": out, "first_picture_ms": 1000.0 * first}))
 def picture_cpu(repeat: int = 20, tree: Path | None = None) -> dict:
     """CPU per picture by kind [ms] on the seed office, the code of ``tree`` (default this checkout)."""
     env = dict(os.environ, PYTHONPATH=str(tree or ROOT), EN17037_THREADS=os.environ.get("EN17037_THREADS", "2"))
+    # run from the tree measured: "python -c" puts the working folder first on the path
     done = subprocess.run([sys.executable, "-c", _MEASURE, str(SEED), str(repeat)], capture_output=True, text=True, check=True,
-                          env=env, cwd=ROOT)
+                          env=env, cwd=tree or ROOT)
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
@@ -86,7 +87,7 @@ def first_picture(tree: Path | None = None, repeat: int = 3) -> float:
             "print(1000 * (time.process_time() - t))")
     env = dict(os.environ, PYTHONPATH=str(tree or ROOT))
     return statistics.median(float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                                                  env=env).stdout) for _ in range(repeat))
+                                                  env=env, cwd=tree or ROOT).stdout) for _ in range(repeat))
 
 
 def export(rev: str, directory: Path) -> Path:

@@ -1,6 +1,7 @@
 """Plan maps: a room's viewpoints as coloured cells on its floor plan, drawn in the room's own orientation."""
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -92,6 +93,22 @@ def plan_rotation(floor, windows=()) -> float:
     return _canonical_deg(best)
 
 
+@functools.lru_cache(maxsize=16)
+def _rotation_of(floor: bytes, windows: bytes) -> float:
+    """:func:`plan_rotation` of a floor and windows given as the bytes of their float arrays, kept:
+    a room's maps (four per eye height, its daylight map) share them."""
+    return plan_rotation(np.frombuffer(floor).reshape(-1, 2), list(np.frombuffer(windows).reshape(-1, 2, 2)))
+
+
+@functools.lru_cache(maxsize=16)
+def _squares_of(points: bytes, spacing_m: float | None) -> np.ndarray:
+    """:func:`_cell_squares` of points given as the bytes of their (n, 2) float array, kept (read only):
+    the maps of one eye height share them."""
+    out = _cell_squares(np.frombuffer(points).reshape(-1, 2), spacing_m)
+    out.flags.writeable = False
+    return out
+
+
 def _nearest_neighbour(points: np.ndarray, sample: int = 256) -> tuple[np.ndarray, np.ndarray]:
     """Distance [m] and offset (k, 2) [m] from up to ``sample`` evenly spread points to their nearest other point.
 
@@ -170,7 +187,7 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     near_m = None if near is None else np.asarray(near, dtype=bool).reshape(-1)
     floor_r = np.asarray(floor, dtype=float).reshape(-1, 2)
     win = [np.asarray(w, dtype=float).reshape(2, 2) for w in (windows or ())]
-    angle = plan_rotation(floor_r, win)
+    angle = _rotation_of(floor_r.tobytes(), b"".join(w.tobytes() for w in win))
     r = _rot(angle)
     centre = floor_r.mean(axis=0)  # a point of the room, whatever the model's axes
     # rounded to a nanometre: the same room in another model frame then gives the same coordinates,
@@ -180,7 +197,7 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     util_t = None if utilised is None else tf(utilised)
     win_t = [tf(w) for w in win]
     pts_t = tf(pts)
-    squares = _cell_squares(pts_t, spacing_m)
+    squares = _squares_of(pts_t.tobytes(), spacing_m)
     north = r @ np.array([math.sin(math.radians(true_north_deg)), math.cos(math.radians(true_north_deg))])
 
     faces, legend_entries, bar = _plan_colours(kind, vals, thresholds)
