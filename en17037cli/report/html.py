@@ -28,6 +28,7 @@ from en17037cli.report.markdown import (
     window_rows,
 )
 from en17037cli.report.numbers import fmt_bound, fmt_duration
+from en17037cli.report.validation import kind_text
 from en17037cli.report.verdicts import limit_text
 
 _CSS = """
@@ -118,7 +119,7 @@ def _figures(pics, n0: int) -> str:
 
 
 def _room(room: dict, figures, n0: int) -> list[str]:
-    H = [f'<section class="room"><h2>Room {escape(room["name"])}</h2>']
+    H = [f'<section class="room"><h2>Room {escape(room["name"])}</h2>', f"<p>Kind: {escape(kind_text(room['kind']))}.</p>"]
     if room.get("problem"):
         H.append(f"<p>Not assessable: {escape(room['problem'])}</p>")
     H.append(_table(window_rows(room)))

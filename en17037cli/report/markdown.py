@@ -4,6 +4,7 @@ from __future__ import annotations
 from en17037cli.report.glare_text import glare_markdown, glare_parameters
 from en17037cli.report.labels import STATUS_LABEL, assessed, is_repair, md, unassessed
 from en17037cli.report.numbers import fmt_bound, fmt_duration
+from en17037cli.report.validation import kind_text
 from en17037cli.report.verdicts import limit_text
 from en17037cli.standard import LEVELS
 
@@ -104,6 +105,10 @@ def parameter_lines(report: dict) -> list[str]:
           f"{fmt(t['outside_distance_m'])} m, sunlight {fmt(t['sunlight_hours'])} h"
           + (f", daylight target {fmt(t['daylight_target_lx'])} lx on 50 % and minimum target {fmt(t['daylight_minimum_target_lx'])} "
              "lx on 95 % of the plane." if "daylight" in cfg else ".")]
+    for kind, values in report["practice"].get("kinds", {}).items():  # a practice's values per room kind
+        L += [f"Practice {report['practice']['name']} for a {kind.replace('_', ' ')}: "
+              + ", ".join(f"{k.removeprefix('thresholds.')} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in values.items())
+              + f" ({report['practice']['kinds_source']})."]
     return L
 
 
@@ -136,8 +141,10 @@ def daylight_table(d: dict) -> list[list[str]]:
     for name, lv in d["levels"].items():
         dt = f" (D {lv['target_daylight_factor_pct']:g} %)" if "target_daylight_factor_pct" in lv else ""
         dtm = f" (D {lv['minimum_target_daylight_factor_pct']:g} %)" if "minimum_target_daylight_factor_pct" in lv else ""
+        none = lv["minimum_target_lx"] == 0  # a practice that asks no minimum target (gb-br209-2022 per room kind)
         rows.append([name, f"{lv['target_lx']:g} lx{dt}", f"{lv['target_share']:.0%} ± {lv['target_share_error']:.0%}",
-                     f"{lv['minimum_target_lx']:g} lx{dtm}", f"{lv['minimum_target_share']:.0%} ± {lv['minimum_target_share_error']:.0%}"])
+                     "none asked" if none else f"{lv['minimum_target_lx']:g} lx{dtm}",
+                     "-" if none else f"{lv['minimum_target_share']:.0%} ± {lv['minimum_target_share_error']:.0%}"])
     return rows
 
 
@@ -183,7 +190,7 @@ def report_markdown(report: dict, figures=()) -> str:
     if attention:
         L += ["**Warnings:**", ""] + [f"- {md(w)}" for w in attention] + [""]
     for room in report["rooms"]:
-        L += ["", f"## Room {md(room['name'])}", ""]
+        L += ["", f"## Room {md(room['name'])}", "", f"Kind: {md(kind_text(room['kind']))}.", ""]
         if room.get("problem"):
             L += [f"Not assessable: {md(room['problem'])}", ""]
         L += _md_table(window_rows(room)) + [""]

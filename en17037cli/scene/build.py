@@ -14,6 +14,7 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.project.settings import Project
+from en17037cli.scene.kinds import assign_kinds
 from en17037cli.scene.load import load_geometry
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry, Scene
 from en17037cli.scene.openings import join_openings
@@ -83,6 +84,7 @@ def build_scene(project: Project) -> Scene:
     scene.notes.extend(join_openings(scene))  # one window per opening, whatever the format
     for i, room in enumerate(scene.rooms):  # indices in the scene's order: ray groups and reports follow it
         room.index = i
+    assign_kinds(scene, project)  # what each room is used for, and what its uses ask of it
     if scene.context:
         from en17037cli.scene.context import context_warnings
 

@@ -97,6 +97,12 @@ class Room:
     #: why no verdict is given although the criteria ran: windows of the room were quarantined
     #: (:class:`Quarantined`); its levels are computed without them, and it never passes
     withheld: str | None = None
+    usage: tuple[tuple[str, str], ...] = ()  # what the model says it is used for (its space's Space.usage)
+    #: its uses (practice.ROOM_KINDS) and where they came from, and what they set: (key path, value,
+    #: from) each (scene/kinds.py)
+    kinds: tuple[str, ...] = ()
+    kind_source: str = ""
+    by_kind: tuple[tuple[str, object, str], ...] = ()
 
 
 @dataclass(frozen=True)
