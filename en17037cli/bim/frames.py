@@ -85,7 +85,7 @@ class ModelFiles:
         """The IFC header's FILE_NAME time stamp as an xs:dateTime (``2016-11-29T10:26:56``), or None."""
         f = self.ifc(file)
         try:
-            stamp = str(f.header.file_name.time_stamp).strip()  # type: ignore[union-attr]
+            stamp = str(f.header.file_name.time_stamp).strip()
             return dt.datetime.fromisoformat(stamp.replace("Z", "+00:00")).isoformat()
         except (AttributeError, ValueError, TypeError, RuntimeError):
             return None
@@ -93,7 +93,7 @@ class ModelFiles:
     def ifc_project(self, file: str) -> str | None:
         """The GlobalId of the file's IfcProject, or None."""
         f = self.ifc(file)
-        projects = f.by_type("IfcProject") if f is not None else []  # type: ignore[attr-defined]
+        projects = f.by_type("IfcProject") if f is not None else []
         return projects[0].GlobalId if projects else None
 
 
