@@ -156,8 +156,12 @@ def test_sunlight_camera_stands_at_point_p_in_the_files_coordinates(run):
             vp = files[name.replace("markup.bcf", "viewpoint.bcfv")].decode()
             point = np.array([float(x) for x in re.findall(r"<CameraViewPoint>\s*<X>(.*?)</X>\s*<Y>(.*?)</Y>\s*<Z>(.*?)</Z>",
                                                             vp)[0]])
+            direction = np.array([float(x) for x in re.findall(
+                r"<CameraDirection>\s*<X>(.*?)</X>\s*<Y>(.*?)</Y>\s*<Z>(.*?)</Z>", vp)[0]])
             lo, hi = window_box(f, window)
             assert np.all(point >= lo - 0.3) and np.all(point <= hi + 0.3), (window, point, lo, hi)
+            # looking out through the window: level (a wall window), towards its glass
+            assert abs(direction[2]) < 1e-6 and (0.5 * (lo + hi) - point) @ direction > 0
             n += 1
     assert n == sum(r["sunlight"]["status"] != "pass" for r in run["report"]["rooms"]) >= 3
 

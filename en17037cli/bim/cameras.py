@@ -107,7 +107,8 @@ def sunlight_camera(scene: Scene, room: Room, section: dict) -> Camera | None:
     if not ws:
         return None
     i, w = max(ws, key=lambda iw: (iw[1].get("hours_h") or 0.0, -iw[0]))
-    return looking_at(scene, room, np.array(w["point_p_m"], float), f"point P of window '{w['name']}'", i)
+    return Camera(np.array(w["point_p_m"], float), _unit(room.windows[i].normal), i,
+                  f"point P of window '{w['name']}', looking out through it")
 
 
 def daylight_camera(scene: Scene, room: Room, section: dict) -> Camera | None:

@@ -78,7 +78,8 @@ def description(criterion: str, section: dict, camera: Camera, windows: list[dic
     the clause, and where the viewpoint stands."""
     words, clause = CRITERIA[criterion]
     why = limit_text(criterion, section) if section["status"] == "fail" else section.get("reason", "")
-    looking = f", looking at window '{windows[camera.window]['name']}'" if camera.window is not None else ""
+    looking = f", looking at window '{windows[camera.window]['name']}'" \
+        if camera.window is not None and "looking" not in camera.how else ""
     status = "fails" if section["status"] == "fail" else f"is {section['status'].replace('_', ' ')}"
     return (f"EN 17037 {clause} {words} {status} ({section['required']} required): {why or 'see the report'}. "
             f"Viewpoint: {camera.how}{looking}.")
