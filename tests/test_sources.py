@@ -131,3 +131,34 @@ def test_ifc_rooms_and_windows_are_their_spaces_and_windows(tmp_path):
     assert got == design
     assert {i for r in report["rooms"] for w in r["windows"] for i in w["source"]["ids"]} == set(window.values())
     assert json.loads(json.dumps(report)) == report  # plain JSON
+
+
+MODELS = Path(__file__).resolve().parents[2] / "shared" / "data" / "real-models"
+
+
+@pytest.mark.skipif(not (MODELS / "Urban_House_MEP.xml").is_file(), reason="the real models are absent")
+def test_gbxml_rooms_and_windows_are_its_spaces_and_openings(tmp_path):
+    """Revit MEP 2016's gbXML: each room's source is a Space id of the file, each window's ids are ids
+    of Openings of the file (read here with ElementTree), the window layer from the format's table."""
+    pytest.importorskip("lxml")
+    import xml.etree.ElementTree as ET
+
+    xml = MODELS / "Urban_House_MEP.xml"
+    ids = {}
+    for e in ET.parse(xml).iter():
+        tag = e.tag.rsplit("}", 1)[-1]
+        if tag in ("Space", "Opening") and e.get("id"):
+            ids[e.get("id")] = tag
+    doc = {"version": 1, "name": "gbxml", "model": {"files": [{"path": str(xml)}]},
+           "location": {"timezone": "America/New_York"}, "rooms": [{"gbxml_spaces": "*"}], "sunlight": SUN,
+           "requirements": {"view": "none", "sunlight": "minimum"}}
+    (tmp_path / "p.yaml").write_text(yaml.safe_dump(doc), encoding="utf-8")
+    report = build_report(pipeline.run(load_project(tmp_path / "p.yaml", [])))
+    assert report["rooms"]
+    for room in report["rooms"]:
+        src = room["source"]
+        assert src["format"] == "gbxml" and len(src["ids"]) == 1 and ids[src["ids"][0]] == "Space"
+        for w in room["windows"]:
+            assert w["source"]["format"] == "gbxml" and w["source"]["ids"]
+            assert all(ids.get(i) == "Opening" for i in w["source"]["ids"]), w["source"]
+            assert all(e["layer_rule"] == "the format's default" for e in w["source"]["elements"] if "layer_rule" in e)
