@@ -60,6 +60,10 @@ class ModelFiles:
             self._open[file] = open_ifc(spec.path)[0]
         return self._open[file]
 
+    def forget(self, file: str) -> None:
+        """Drop the opened copy of ``file`` (after changing it): the next :meth:`ifc` opens it again."""
+        self._open.pop(file, None)
+
     def to_file(self, file: str | None, points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Points (n, 3) [m] and unit directions (n, 3) of the scene's world frame in ``file``'s own
         coordinates [m] (see the module docstring); unchanged for a file that is not IFC."""

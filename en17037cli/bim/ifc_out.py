@@ -139,7 +139,6 @@ def results_ifc(result, report: dict, file: str, files: ModelFiles | None = None
     on its spaces and windows (see the module docstring), as bytes."""
     files = files or ModelFiles(result.project)
     f = files.ifc(file)
-    files._open.pop(file, None)  # this copy is changed: the next caller opens its own
     last = max((e.id() for e in f), default=0)
     owners: dict = {}
     for entry in report["rooms"]:
@@ -159,6 +158,7 @@ def results_ifc(result, report: dict, file: str, files: ModelFiles | None = None
                     owners[el.GlobalId] = getattr(el, "OwnerHistory", None)
                     put(f, el, props)
     _settle(f, last, owners)
+    files.forget(file)  # this copy is changed: the next caller opens its own
     return f.to_string().encode("utf-8")
 
 
