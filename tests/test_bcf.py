@@ -217,3 +217,16 @@ def test_a_real_export_revit_2015(tmp_path):
         elif n.endswith(".bcf"):
             xsd["markup"].validate(io.BytesIO(data))
     assert plates == 6  # the living room's two curtain walls, three glazed panels each
+
+
+def test_affine_inverse_undoes_a_map_conversion_by_hand():
+    """E = e + s (x a - y b), N = n + s (x b + y a), H = h + z with a = cos 30, b = sin 30, s = 2:
+    the map point of (1, 2, 3) is taken back to (1, 2, 3), the map direction of +x back to +x."""
+    from en17037cli.bim.frames import affine_inverse
+
+    a, b, s = np.cos(np.radians(30)), np.sin(np.radians(30)), 2.0
+    forward = lambda v: np.column_stack([85000 + s * (v[:, 0] * a - v[:, 1] * b), 446000 + s * (v[:, 0] * b + v[:, 1] * a),
+                                         10 + v[:, 2]])  # noqa: E731
+    mapped = np.array([[85000 + s * (1 * a - 2 * b), 446000 + s * (1 * b + 2 * a), 13.0]])
+    p, d = affine_inverse(forward, mapped, np.array([[a, b, 0.0]]))
+    assert np.allclose(p, [[1, 2, 3]], atol=1e-9) and np.allclose(d, [[1, 0, 0]], atol=1e-9)

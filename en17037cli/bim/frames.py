@@ -2,7 +2,7 @@
 directions of the scene's world frame taken back into that file's own coordinates.
 
 The scene's world frame is the file's placement coordinates in metres (ifcopenshell's world
-coordinates), then the file's IfcMapConversion (:func:`~en17037cli.io.ifc_site.apply_map`), then
+coordinates), then the file's IfcMapConversion as the IFC reader applies it (:func:`file_placement`), then
 the project's ``model.files[].units`` / ``up_axis`` (:func:`~en17037cli.scene.load.to_metres_z_up`)
 and ``transform`` (:func:`~en17037cli.scene.load.transformed`), in that order. A BCF viewpoint is in
 the IFC's own coordinates, in metres (BCF 2.1, "Components": "meters for length"): each of those
@@ -15,7 +15,7 @@ import datetime as dt
 import numpy as np
 
 from en17037cli.errors import InputError
-from en17037cli.io.ifc_site import map_conversion
+from en17037cli.io.ifc_site import apply_map, map_conversion
 from en17037cli.project.settings import ModelFile
 from en17037cli.scene.load import UNIT_SCALE_M
 
@@ -27,14 +27,22 @@ def _unrotate(xyz: np.ndarray, deg: float) -> np.ndarray:
     return np.column_stack([c * xyz[:, 0] - s * xyz[:, 1], s * xyz[:, 0] + c * xyz[:, 1], xyz[:, 2]])
 
 
-def unmap(xyz: np.ndarray, m, direction: bool = False) -> np.ndarray:
-    """The inverse of :func:`~en17037cli.io.ifc_site.apply_map` (E = e + s (x a - y b), N = n + s (x b
-    + y a), H = h + z, with a^2 + b^2 = 1): x = ((E - e) a + (N - n) b) / s, y = ((N - n) a - (E - e) b)
-    / s, z = H - h; a direction loses only the turn and the scale."""
-    e, n, h, a, b, s, _ = m
-    de, dn, dz = (xyz[:, 0], xyz[:, 1], xyz[:, 2]) if direction else (xyz[:, 0] - e, xyz[:, 1] - n, xyz[:, 2] - h)
-    out = np.column_stack([(de * a + dn * b) / s, (dn * a - de * b) / s, dz])
-    return out / np.linalg.norm(out, axis=1, keepdims=True) if direction else out
+def file_placement(f):
+    """How the IFC reader places the file's own coordinates [m] in the scene's world frame before the
+    project's settings (its IfcMapConversion): a function (n, 3) -> (n, 3), or None where it leaves
+    them as they are. The one place that knows how the reader reads the map conversion."""
+    m = map_conversion(f)
+    return None if m is None else (lambda v: apply_map(v, m))
+
+
+def affine_inverse(forward, points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Points and unit directions (n, 3) taken back through an affine map ``forward`` (v -> v A^T + t,
+    found from the images of the origin and the unit vectors): p -> (p - t) A^-T, d -> d A^-T, unit."""
+    t = forward(np.zeros((1, 3)))[0]
+    a = (forward(np.eye(3)) - t).T  # column j: the image of the unit vector j
+    inv = np.linalg.inv(a)
+    back = directions @ inv.T
+    return (points - t) @ inv.T, back / np.linalg.norm(back, axis=1, keepdims=True)
 
 
 class ModelFiles:
@@ -80,9 +88,9 @@ class ModelFiles:
         if (spec.up_axis or "z") == "y":  # the inverse of (x, y, z) -> (x, -z, y)
             points, directions = (np.column_stack([v[:, 0], v[:, 2], -v[:, 1]]) for v in (points, directions))
         points = points / scale
-        m = map_conversion(f)
-        if m is not None:
-            points, directions = unmap(points, m), unmap(directions, m, direction=True)
+        forward = file_placement(f)
+        if forward is not None:
+            points, directions = affine_inverse(forward, points, directions)
         return points, directions
 
     def ifc_date(self, file: str) -> str | None:
