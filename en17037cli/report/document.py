@@ -10,6 +10,7 @@ from en17037cli.criteria import CRITERIA, Unassessed
 from en17037cli.pipeline import RunResult
 from en17037cli.practice import PRACTICES
 from en17037cli.report.numbers import json_number, json_xyz
+from en17037cli.report.sources import Sources
 from en17037cli.report.validation import kind_entry
 from en17037cli.version import __version__
 
@@ -72,16 +73,18 @@ def build_report(result: RunResult) -> dict:
     resolved = {"resolved": scene.resolved} if scene.resolved else {}
     rooms = []
     notes = list(scene.notes)
+    sources = Sources(scene, project)
     for r in result.rooms:
         room = r.room
         entry = {
             "name": room.name,
+            "source": sources.room(room),
             "status": "pass",
             "floor_area_m2": json_number(room.floor.area, 4),
             "floor_source": room.floor_source,
             "kind": kind_entry(room),
-            "windows": [{"name": w.name, "area_m2": json_number(w.area_m2, 4), "outward_normal": json_xyz(w.normal, 6),
-                         "sill_z_m": json_number(w.sill_z + scene.origin[2], 4),
+            "windows": [{"name": w.name, "source": sources.window(w), "area_m2": json_number(w.area_m2, 4),
+                         "outward_normal": json_xyz(w.normal, 6), "sill_z_m": json_number(w.sill_z + scene.origin[2], 4),
                          "head_z_m": json_number(w.head_z + scene.origin[2], 4)}
                         for w in room.windows],
         }

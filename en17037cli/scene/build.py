@@ -61,7 +61,7 @@ def build_scene(project: Project) -> Scene:
                   part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings, *site_warnings, *loc_warnings],
                   file_hashes=g.file_hashes,
                   sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read, windows_left_out=g.windows_left_out,
-                  context=g.context,
+                  context=g.context, files=g.files,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     partly, hidden = check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where)
     scene.warnings.extend(partly)

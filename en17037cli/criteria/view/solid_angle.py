@@ -15,7 +15,8 @@ beside it (:meth:`~en17037cli.criteria.view.cells.Cells.sample_probes`).
 cell by the share of its samples), its exact mode error estimate (half the solid angle of the mixed
 cells holding the layer) and its **interval** [lo, hi]: lo the cells wholly of the layer, hi plus
 every mixed cell that can hold it (one with a sample of it, or whose directions the layer can
-take: sky only at or above the horizon, a ground below the eye only below it). Refinement only
+take: sky only at or above the horizon, ground or landscape that lie wholly below the eye only
+below it). Refinement only
 ever splits a mixed cell into children inside it, so the interval of a coarser level contains the
 estimate and the interval of every finer one. :meth:`Integration.advance` splits the mixed cells
 of the points the caller names and makes the rest final; which points go on is the caller's
@@ -101,8 +102,9 @@ class Integration:
         self.dist_p: list = []
         P = self.P = patches(rg, points, np.radians(settings.angular_resolution_deg))
         self.sample = Sampler(view_rays, rg, points, P, self.with_dist, parallel)
-        # the layers a direction can take: ground faces above the eye can be seen upwards
+        # the layers a direction can take: ground or landscape faces above the eye can be seen upwards
         self.ground_up = points[:, 2] <= view_rays.ground_top_z + HORIZON_SLACK
+        self.landscape_up = points[:, 2] <= view_rays.landscape_top_z + HORIZON_SLACK
         self.zdir = (rg.frame_array("u")[:, 2], rg.frame_array("v")[:, 2], rg.frame_array("n")[:, 2])
         self.cells = base_cells(self.sample, P) if len(P.pt) else None
         self._classify()
@@ -135,8 +137,8 @@ class Integration:
                 able |= z[1] >= -HORIZON_SLACK
             elif key == "ground":  # ground below it (or anywhere, from under a ground face's top)
                 able |= (z[0] <= HORIZON_SLACK) | self.ground_up[self._pi[mi]]
-            else:
-                able[:] = True
+            else:  # landscape likewise: from above every landscape face only below the horizon
+                able |= (z[0] <= HORIZON_SLACK) | self.landscape_up[self._pi[mi]]
             self._possible[key] = able
 
     def _direction_z(self, sel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
