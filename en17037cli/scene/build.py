@@ -35,6 +35,9 @@ def building_centre(g: Geometry) -> np.ndarray:
 def build_scene(project: Project) -> Scene:
     """Load the project's geometry and resolve windows and rooms (see module docstring)."""
     where = project.path.name
+    if not project.rooms:
+        raise InputError(f"{where}: rooms: none given; check, validate, batch and study assess rooms: give rooms (docs/rooms.md), "
+                         "or probe the city model's facades with 'en17037 screen' (its screen: section)")
     g = load_geometry(project.model, where)
     win_mask = g.layer == WINDOW
     if not np.any(win_mask):
