@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from en17037cli.district.figures import plane_figures, sun_faces, sun_hours
+from en17037cli.district.figures import RememberedSunPath, plane_figures, sun_faces, sun_hours
 from en17037cli.district.probes import PROBE_OFFSET_M, Probes, place_probes
 
 #: Contexts a worker keeps (the run's one)
@@ -84,7 +84,6 @@ def build_context(spec: Spec) -> Context:
 
     from en17037cli.criteria.sunlight.exact import SunSpline
     from en17037cli.criteria.sunlight.intervals import day_bounds
-    from en17037cli.criteria.sunlight.visibility import SunPath
     from en17037cli.criteria.view.rays import ViewRays
     from en17037cli.district.settings import screen_settings
     from en17037cli.project import load_project
@@ -103,7 +102,7 @@ def build_context(spec: Spec) -> Context:
     loc = replace(project.location, latitude=spec.latitude, longitude=spec.longitude)
     sun = settings.sun
     dates, t0, t1 = day_bounds(sun.year, sun.period_start, sun.period_end, loc.timezone)
-    path = SunPath(loc, sun)
+    path = RememberedSunPath(loc, sun)
     spline = SunSpline(path, float(t0[0]), float(t1[-1]), spec.north_deg)
     scene_like = type("Layers", (), {"layer": g.layer})()
     return Context(vertices=v, triangles=g.triangles, layer=g.layer, engine=engine, view_rays=ViewRays(engine, scene_like),

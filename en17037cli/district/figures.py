@@ -35,7 +35,7 @@ import numpy as np
 
 from en17037cli.criteria.daylight.sky_component import SkyTolerance, sky_component
 from en17037cli.criteria.sunlight.exact import exact_intervals
-from en17037cli.criteria.sunlight.visibility import SunVisibility
+from en17037cli.criteria.sunlight.visibility import SunPath, SunVisibility
 from en17037cli.criteria.view.distance import horizontal_distance
 from en17037cli.criteria.view.frames import RoomGeometry, WindowFrame
 from en17037cli.criteria.view.solid_angle import solid_angles
@@ -76,10 +76,38 @@ class HalfSpace:
         return self.engine.occluded(name, origins, directions)
 
 
+class RememberedSunPath(SunPath):
+    """The sun's path (:class:`~en17037cli.criteria.sunlight.visibility.SunPath`) remembering every
+    array of times it was asked for, short ones too: the exact method searches the minimum-altitude
+    crossings of each day with the same times for every probe (their SPA calls were a tenth of a
+    probe's time); at most :data:`REMEMBERED` arrays."""
+
+    def __call__(self, t):
+        t = np.ascontiguousarray(t, dtype=float)
+        key = t.tobytes()
+        got = self._memo.get(key)
+        if got is None:
+            got = super().__call__(t)
+            if len(self._memo) < REMEMBERED:
+                self._memo[key] = got
+        return got
+
+
+#: Arrays of times a :class:`RememberedSunPath` keeps
+REMEMBERED = 4096
+
+
 class _NoWindows:
     """A room whose window is the half-space: no window pyramid narrows the cull."""
 
     windows: tuple = ()
+
+
+class _Faces:
+    """Vertices (n, 3) [m, local] and triangles (m, 3) of some faces, as the exact method reads a scene."""
+
+    def __init__(self, vertices: np.ndarray, triangles: np.ndarray):
+        self.vertices, self.triangles = vertices, triangles
 
 
 def sun_faces(ctx, z_ground: float, lo_xy: np.ndarray, hi_xy: np.ndarray) -> np.ndarray:
@@ -92,31 +120,52 @@ def sun_faces(ctx, z_ground: float, lo_xy: np.ndarray, hi_xy: np.ndarray) -> np.
     return ctx.sun_faces[near[ctx.sun_faces]]
 
 
+def seen_above(ctx, faces: np.ndarray, p: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """The faces of ``faces`` that can stand between ``p`` [m, local] and the sun: some corner of
+    their box in front of the facade (normal ``n``), and their top above the minimum altitude seen
+    from p over the box's nearest point in plan (a bound: no face that can block is dropped)."""
+    lo, hi = ctx.face_lo[faces], ctx.face_hi[faces]
+    d = np.hypot(np.maximum(np.maximum(lo[:, 0] - p[0], p[0] - hi[:, 0]), 0.0),
+                 np.maximum(np.maximum(lo[:, 1] - p[1], p[1] - hi[:, 1]), 0.0))
+    high = hi[:, 2] - p[2] >= np.tan(np.radians(ctx.sun.min_altitude_deg)) * d - 1e-6
+    front = np.maximum(lo[:, 0] * n[0], hi[:, 0] * n[0]) + np.maximum(lo[:, 1] * n[1], hi[:, 1] * n[1]) \
+        + np.maximum(lo[:, 2] * n[2], hi[:, 2] * n[2]) >= p @ n - 1e-6
+    return faces[high & front]
+
+
 def sun_hours(ctx, points: np.ndarray, normals: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Hours of sun [h] (p, d) on each day of the period seen from ``points`` (p, 3) [m, local] facing
     ``normals`` (p, 3), and each day's error bound [h]; the exact method, point by point (each
-    vectorised over the sun's path and the faces' edges)."""
-    engine = HalfSpace(ctx.engine, faces)
+    vectorised over the sun's path and the faces' edges), over the faces of ``faces`` each can see
+    above the minimum altitude (:func:`seen_above`)."""
     nd = len(ctx.t0)
     hours, err = np.zeros((len(points), nd)), np.zeros((len(points), nd))
+    # the building's faces as a scene of their own: the exact method's cull looks at every vertex of
+    # the scene it is given, so it gets these faces' vertices only (face k of it is faces[k])
+    used, tri = np.unique(ctx.triangles[faces], return_inverse=True)
+    own = _Faces(ctx.vertices[used], tri.reshape(-1, 3))
     for k in range(len(points)):  # one pass per probe, as the rooms' engine goes point by point
+        engine = HalfSpace(ctx.engine, np.searchsorted(faces, seen_above(ctx, faces, points[k], normals[k])))
         vis = SunVisibility(engine, points[k:k + 1], normals[k:k + 1], WINDOW_GROUP, ctx.location, ctx.sun, ctx.north,
                             ctx.sun_path)
-        iv, e = exact_intervals(vis, ctx.spline, ctx.sun_path, ctx, _NoWindows(), 0, ctx.t0, ctx.t1, ctx.sun,
+        iv, e = exact_intervals(vis, ctx.spline, ctx.sun_path, own, _NoWindows(), 0, ctx.t0, ctx.t1, ctx.sun,
                                 float(ctx.location.latitude))
         hours[k] = [float(np.sum(d[:, 1] - d[:, 0])) / 3600.0 for d in iv]
         err[k] = np.asarray(e) / 3600.0
     return hours, err
 
 
-def half_space(origin: np.ndarray, normal: np.ndarray, group: str = WINDOW_GROUP) -> RoomGeometry:
+def half_space(origin: np.ndarray, normal: np.ndarray, group: str = WINDOW_GROUP, upper: bool = False) -> RoomGeometry:
     """A room whose one window is the half-space in front of a facade: a square of half-size
-    :data:`HALF_SPACE_M` in the plane through ``origin`` [m, local] facing ``normal``, no frame."""
+    :data:`HALF_SPACE_M` in the plane through ``origin`` [m, local] facing ``normal`` (horizontal),
+    no frame; with ``upper``, its upper half only (the directions above the horizon of points at
+    ``origin``'s height: where the sky is)."""
     u, v = window_axes(np.asarray(normal, float))
     s = HALF_SPACE_M
-    tri2 = np.array([[[-s, -s], [s, -s], [s, s]], [[-s, -s], [s, s], [-s, s]]])
+    y0 = 0.0 if upper else -s
+    tri2 = np.array([[[-s, y0], [s, y0], [s, s]], [[-s, y0], [s, s], [-s, s]]])
     empty = np.zeros((0, 2, 3))
-    frame = WindowFrame(0, "virtual window", np.asarray(origin, float), u, v, np.asarray(normal, float), tri2, -s, s, -s, s,
+    frame = WindowFrame(0, "virtual window", np.asarray(origin, float), u, v, np.asarray(normal, float), tri2, -s, s, y0, s,
                         True, np.zeros(0, np.int64), frame_xys=np.zeros((0, 3)), frame_x=np.zeros((0, 2)),
                         frame_y=np.zeros((0, 2)), frame_edges=empty, frame_edge_opposite=empty)
     return RoomGeometry([frame], np.zeros(1, np.int64), np.zeros((0, 3, 3)), np.zeros(0, np.int64), group)
@@ -156,7 +205,12 @@ def plane_figures(ctx, points: np.ndarray, normal: np.ndarray, sky_resolution_de
     rg = half_space(points[0] + BEHIND_M * n, n)
     tol = SkyTolerance(resolution_deg=sky_resolution_deg, refine_levels=SKY_REFINE_LEVELS, rel_tolerance=SKY_REL_TOLERANCE,
                        abs_tolerance=SKY_ABS_TOLERANCE, frame_depth_m=0.0)
-    sc = sky_component(ctx.view_rays, rg, points, np.ones(1), tol, normal=n)
+    sc = np.zeros(len(points)), np.zeros(len(points))
+    for z in np.unique(points[:, 2]):  # the sky lies above each point's horizon: its upper quarter-space, per height
+        at = np.flatnonzero(points[:, 2] == z)
+        up = sky_component(ctx.view_rays, half_space(points[at[0]] + BEHIND_M * n, n, upper=True), points[at], np.ones(1),
+                           tol, normal=n)
+        sc[0][at], sc[1][at] = up.value, up.bound
     solid = solid_angles(ctx.view_rays, rg, points, ctx.view, parallel=True)
     dist, gap = outside_distance(ctx, rg, points, n)
-    return sc.value, sc.bound, solid, dist, gap
+    return sc[0], sc[1], solid, dist, gap
