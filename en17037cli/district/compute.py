@@ -27,6 +27,7 @@ from en17037cli.district.probes import PROBE_OFFSET_M, Probes, place_probes
 MAX_CONTEXTS = 1
 _CONTEXTS: dict = {}
 _LOCK = threading.Lock()
+_RUN = threading.Lock()
 
 
 @dataclass(frozen=True)
@@ -82,6 +83,7 @@ def build_context(spec: Spec) -> Context:
     from dataclasses import replace
     from pathlib import Path
 
+    from en17037cli.batch.worker import worker_threads
     from en17037cli.criteria.sunlight.exact import SunSpline
     from en17037cli.criteria.sunlight.intervals import day_bounds
     from en17037cli.criteria.view.rays import ViewRays
@@ -97,7 +99,8 @@ def build_context(spec: Spec) -> Context:
     origin = np.asarray(spec.origin, dtype=float)
     v = g.vertices - origin
     opaque = g.layer != WINDOW
-    engine = RayEngine(v, g.triangles, {"opaque": opaque, "sun": opaque & g.obstructs_sun, "landscape": g.layer == LANDSCAPE})
+    engine = RayEngine(v, g.triangles, {"opaque": opaque, "sun": opaque & g.obstructs_sun, "landscape": g.layer == LANDSCAPE},
+                       threads=worker_threads())  # the worker's share of the cores
     tri = v[g.triangles]
     loc = replace(project.location, latitude=spec.latitude, longitude=spec.longitude)
     sun = settings.sun
@@ -214,6 +217,11 @@ def screen_buildings(spec: Spec, buildings: list, first: int) -> Screened:
     """Probes and figures of ``buildings`` (their indices in the run counted from ``first``). A
     building whose probes or figures cannot be had (a degenerate wall, an engine's error) is left
     out with why, the others go on."""
+    with _RUN:  # one task at a time in a worker: its ray engine has the worker's threads (a Dask worker's nthreads)
+        return _screen(spec, buildings, first)
+
+
+def _screen(spec: Spec, buildings: list, first: int) -> Screened:
     from en17037cli.errors import InputError, internal_message
 
     ctx = context(spec)
