@@ -201,3 +201,34 @@ def test_the_screened_city_model_reread_with_its_attributes(tmp_path):
     sem = g["semantics"]
     assert sum(sem["surfaces"][v].get("en17037_probes", 0) for v in sem["values"][0]) == len(rows)
     assert sub.j["CityObjects"]["house"]["attributes"]["en17037_probes"] == len(rows)
+
+
+def test_a_planned_building_as_a_second_file(tmp_path):
+    """The question planners ask ("which facades still meet it if the block across is built?"): the
+    canyon's obstruction given as an OBJ beside the city model (layer landscape) gives the house's
+    probes the figures it gives as a building of the tile, and the city model without it more sun."""
+    import yaml
+
+    across = [(8 + W, -1000, 0), (8 + W + 10, -1000, 0), (8 + W + 10, 1000, 0), (8 + W, 1000, 0)]
+    top = [(x, y, TOP) for x, y, _ in across]
+    v = [(x + PLACE[0], y + PLACE[1], z) for x, y, z in across + top]
+    quads = [(1, 4, 3, 2), (5, 6, 7, 8), (1, 2, 6, 5), (2, 3, 7, 6), (3, 4, 8, 7), (4, 1, 5, 8)]
+    obj = tmp_path / "planned.obj"
+    obj.write_text("".join(f"v {x:.3f} {y:.3f} {z:.3f}\n" for x, y, z in v) + "".join(f"f {a} {b} {c} {d}\n" for a, b, c, d in quads))
+    alone = City().box("house", 0, 8, -5, 5, 3.0).write(tmp_path / "alone.city.json")
+    (tmp_path / "a").mkdir()
+    p = screen_project(tmp_path / "a", alone, buildings=["house"])
+    doc = yaml.safe_load(p.read_text())
+    doc["model"]["files"].append({"path": str(obj), "layer": "landscape"})
+    p.write_text(yaml.safe_dump(doc))
+    (tmp_path / "b").mkdir()
+    (tmp_path / "c").mkdir()
+    for project, out in ((p, "with_obj"), (screen_project(tmp_path / "b", canyon(tmp_path), buildings=["house"]), "tile"),
+                         (screen_project(tmp_path / "c", alone, buildings=["house"]), "without")):
+        code, msg = run_screen(project, tmp_path / out)
+        assert code in (0, 1), msg
+    east = {k: next(r for r in probes(tmp_path / k) if r["facing_deg"] == "90.0" and abs(float(r["y"]) - PLACE[1]) < 1e-6)
+            for k in ("with_obj", "tile", "without")}
+    for key in ("sunlight_hours_h", "sky_component_pct", "outside_distance_m"):
+        assert float(east["with_obj"][key]) == pytest.approx(float(east["tile"][key]), abs=2e-3), key
+    assert float(east["without"]["sunlight_hours_h"]) > float(east["tile"]["sunlight_hours_h"]) + 0.5  # 4.83 h against 3.99 h

@@ -88,6 +88,7 @@ def build_context(spec: Spec) -> Context:
     from en17037cli.criteria.sunlight.intervals import day_bounds
     from en17037cli.criteria.view.rays import ViewRays
     from en17037cli.district.settings import screen_settings
+    from en17037cli.io import is_context
     from en17037cli.project import load_project
     from en17037cli.raytrace import RayEngine
     from en17037cli.scene.load import load_geometry
@@ -95,7 +96,10 @@ def build_context(spec: Spec) -> Context:
 
     project = load_project(Path(spec.project), list(spec.overrides))
     settings = screen_settings(project)
-    g = load_geometry(project.model, project.path.name)
+    # the city models whole: the probes' own buildings and what they see must be in the scene (the
+    # context radius, made for a building's windows, would cut the tile round another file)
+    files = tuple(replace(f, context_radius_m=float("inf")) if is_context(f.path) else f for f in project.model.files)
+    g = load_geometry(replace(project.model, files=files), project.path.name)
     origin = np.asarray(spec.origin, dtype=float)
     v = g.vertices - origin
     opaque = g.layer != WINDOW
