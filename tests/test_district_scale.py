@@ -182,3 +182,26 @@ def test_the_berlin_tile_screened_by_polygon(tmp_path):
         assert 0.0 <= float(r["sunlight_hours_h"]) <= 12.5
         assert 0.0 <= float(r["sky_component_pct"]) <= 39.62 + float(r["sky_component_pct_error"])
         assert r["sunlight_level"] in ("none", "minimum", "medium", "high")
+
+
+def test_the_report_draws_every_probe_and_names_are_text(tmp_path):
+    """report.html: one dot per probe on the map, its class the probe's levels; a building id with
+    markup, quotes, a right-to-left script and an emoji is text everywhere (escaped in the page,
+    whole in the CSV and GeoJSON)."""
+    lxml_html = pytest.importorskip("lxml.html")
+    name = "<b onclick='x'>&\"שלום\" 🏠"
+    city = City().box(name, 0, 8, 0, 8, 3.0).box("b", 20, 28, 0, 8, 6.0).write(tmp_path / "c.city.json")
+    code, out = run_screen(screen_project(tmp_path, city), tmp_path / "o")
+    assert code in (0, 1), out
+    page = (tmp_path / "o" / "report.html").read_text()
+    assert "<b onclick" not in page
+    doc = lxml_html.fromstring(page)
+    rows = probes(tmp_path / "o")
+    dots = doc.findall(".//circle")
+    assert len(dots) == len(rows) > 0
+    levels = ("none", "minimum", "medium", "high")
+    assert sorted(d.get("class").split()[0] for d in dots) == sorted(f"s{levels.index(r['sunlight_level'])}" for r in rows)
+    assert name in doc.text_content()
+    assert {r["building_id"] for r in rows} == {name, "b"}
+    feats = json.loads((tmp_path / "o" / "probes.geojson").read_text())["features"]
+    assert {f["properties"]["building_id"] for f in feats} == {name, "b"}
