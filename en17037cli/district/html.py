@@ -47,7 +47,8 @@ def _legend(mode: str) -> str:
 
 
 def map_svg(table: ProbeTable, buildings: list) -> str:
-    """The map: walls in plan (each polygon's extent along its facade) and one dot per probe."""
+    """The map: walls in plan (each polygon's extent along its facade) and one dot per probe, the
+    higher storeys' first (a plan shows the lowest of a stack)."""
     segs = []
     for b in buildings:  # the walls of every screened building, in plan
         for w in b.walls:
@@ -70,8 +71,9 @@ def map_svg(table: ProbeTable, buildings: list) -> str:
     x, y = px(table.probes.point[:, :2])
     vbin = np.searchsorted(np.asarray(VSC_BINS), table.vsc_pct, side="right")
     r = max(1.2, min(3.0, 0.8 * scale))
+    order = np.argsort(-table.probes.storey, kind="stable")  # storeys above each other: the lowest drawn last, on top
     dots = [f"<circle cx='{x[i]:.1f}' cy='{y[i]:.1f}' r='{r:.1f}' class='s{table.sun_level[i]} l{table.layers_level[i]} "
-            f"d{table.distance_level[i]} v{vbin[i]}'/>" for i in range(len(table))]
+            f"d{table.distance_level[i]} v{vbin[i]}'/>" for i in order]
     return (f"<svg id='map' class='ms' xmlns='http://www.w3.org/2000/svg' viewBox='0 0 {WIDTH} {height}' width='{WIDTH}' "
             f"height='{height}'><path class='walls' d='{''.join(path)}'/>{''.join(dots)}</svg>")
 
@@ -107,5 +109,6 @@ def report_html(title: str, info: dict, table: ProbeTable, buildings: list, rows
             f"<h1>{e(title)}: facade screen (EN 17037)</h1><p>{e(info['headline'])}</p><ul>{facts}</ul>"
             f"<h2>Map</h2><p>{buttons}</p>{legends}{map_svg(table, buildings)}"
             "<p>Each dot is a probe: the point P of a virtual window flush with the facade, one per storey along each wall "
-            "(docs/district.md). Walls shared with a neighbour have none.</p>"
+            "(docs/district.md); where storeys stand above each other the lowest is drawn on top. Walls shared with a "
+            "neighbour have none.</p>"
             f"<h2>Buildings</h2><table>{head}{body}</table><h2>Warnings</h2><ul>{warn}</ul>{script}</body></html>\n")
