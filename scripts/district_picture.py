@@ -33,7 +33,7 @@ def main(argv=None) -> None:
     ap.add_argument("out")
     ap.add_argument("--box", nargs=4, type=float, default=None)
     a = ap.parse_args(argv)
-    rows = list(csv.DictReader((Path(a.folder) / "probes.csv").open()))
+    rows = sorted(csv.DictReader((Path(a.folder) / "probes.csv").open()), key=lambda r: -int(r["storey"]))  # lowest on top
     xy = np.array([[float(r["x"]), float(r["y"])] for r in rows])
     sun = np.array([LEVELS.index(r["sunlight_level"]) for r in rows])
     vsc = np.array([float(r["sky_component_pct"]) for r in rows])
@@ -53,7 +53,7 @@ def main(argv=None) -> None:
             (axes[1], vsc, ListedColormap(VSC_COLOURS), BoundaryNorm([0, *VSC_BINS, 40], len(VSC_COLOURS)),
              "vertical sky component [%]", None, None)):
         ax.add_collection(LineCollection(segs, colors="0.55", linewidths=0.5))
-        sc = ax.scatter(xy[:, 0], xy[:, 1], c=values, cmap=cmap, norm=norm, s=3, linewidths=0)
+        sc = ax.scatter(xy[:, 0], xy[:, 1], c=values, cmap=cmap, norm=norm, s=3 if a.box is None else 9, linewidths=0)
         ax.set_xlim(box[0], box[2])
         ax.set_ylim(box[1], box[3])
         ax.set_aspect("equal")
