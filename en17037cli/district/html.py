@@ -83,7 +83,7 @@ def _pct(v: float) -> str:
 
 
 def _num(v: float, fmt: str) -> str:
-    return "" if not math.isfinite(v) else ("&infin;" if math.isinf(v) else format(v, fmt))
+    return "" if math.isnan(v) else ("&infin;" if math.isinf(v) else format(v, fmt))
 
 
 def report_html(title: str, info: dict, table: ProbeTable, buildings: list, rows: list, warnings: list) -> str:
