@@ -121,29 +121,6 @@ def glare_level(dgp_5pct, limits: dict[str, float] | None = None) -> np.ndarray:
         return ((v <= lim["minimum"]).astype(int) * (1 + (v <= lim["medium"]).astype(int) * (1 + (v <= lim["high"]).astype(int))))
 
 
-@dataclass(frozen=True)
-class Practice:
-    """A national practice built on EN 17037: the project values it sets, and where it says so."""
-
-    name: str
-    source: str
-    values: dict
-
-
-#: National practices, by the name a project file gives (``practice:``). Each sets project values
-#: (``key.path: value``) that the project file itself does not give; a value it gives wins.
-#: Only practices whose source states the values plainly are here (docs/project-file.md lists the others).
-PRACTICES: dict[str, Practice] = {
-    "en17037": Practice("en17037", "EN 17037:2018+A1:2021, clauses 5.2 and 5.3 and Annex A", {}),
-    "gb-br209-2022": Practice(
-        "gb-br209-2022",
-        "BR 209:2022, Site layout planning for daylight and sunlight (BRE, 3rd edition), section 3.3, which carries "
-        "the UK National Annex of BS EN 17037: at least one main habitable room of each dwelling, preferably the "
-        "living room, should receive at least 1.5 h of sunlight on 21 March",
-        {"sunlight.date": "03-21", "requirements.sunlight": "minimum", "requirements.sunlight_rooms": "any"}),
-}
-
-
 #: The view criteria of Table A.5, each judged over the viewpoints (clause 5.2).
 VIEW_CRITERIA = ("horizontal_sight_angle", "outside_distance", "layers")
 
@@ -374,12 +351,17 @@ def daylight_level(target_share: dict[str, float], minimum_share: dict[str, floa
     return level
 
 
-def daylight_limit(target_share: dict[str, float], minimum_share: dict[str, float], reached: int, required: str) -> Limit:
+def daylight_limit(target_share: dict[str, float], minimum_share: dict[str, float], reached: int, required: str,
+                   minimum_lx: dict[str, float] | None = None) -> Limit:
     """The requirement of Table A.1 with the smallest margin at the target level: ``daylight_target``
-    (share of the plane reaching E_T, 50 % needed) or ``daylight_minimum_target`` (E_TM, 95 %)."""
+    (share of the plane reaching E_T, 50 % needed) or ``daylight_minimum_target`` (E_TM, 95 %). A
+    minimum target of 0 lx (``minimum_lx``, level -> E_TM [lx]: a practice that asks none, as the UK
+    National Annex) never limits: every point reaches it."""
     t = LEVELS[target_level(reached, required)]
     a = Limit(t, "daylight_target", float(target_share[t]), DAYLIGHT_SHARES["target"])
     b = Limit(t, "daylight_minimum_target", float(minimum_share[t]), DAYLIGHT_SHARES["minimum_target"])
+    if minimum_lx is not None and minimum_lx[t] <= 0:
+        return a
     return a if a.margin <= b.margin else b
 
 

@@ -167,7 +167,7 @@ def test_climate_based_run(climate_report):
     near = [p["share_of_hours"]["300"] for p in sec["points"] if p["point"][1] < 2]
     back = [p["share_of_hours"]["300"] for p in sec["points"] if p["point"][1] > 4]
     assert min(near) > max(back)
-    assert csv_text.splitlines()[0].endswith("share_of_hours_750lx_error")
+    assert csv_text.splitlines()[0].endswith("share_of_hours_750lx_error,room_source_ids")
     assert report["summary"]["rooms_daylight_required"] == 1
 
 

@@ -49,7 +49,8 @@ def test_validate_and_check_with_the_defaults(model, tmp_path):
     v = en17037("validate", project)
     assert v.returncode == 0, (v.stdout[-2000:], v.stderr[-2000:])
     out = tmp_path / "report"
-    c = en17037("check", project, "--out", out, "-q")
+    bim = ("--bcf", tmp_path / "issues.bcf", "--ifc-out", tmp_path / "results.ifc") if kind == "ifc" else ()
+    c = en17037("check", project, "--out", out, "-q", *bim)
     assert c.returncode in (0, 1), c.stderr[-3000:]
     report = json.loads((out / "report.json").read_text(encoding="utf-8"))
     jsonschema.validate(report, load_schema("report"))
@@ -57,3 +58,34 @@ def test_validate_and_check_with_the_defaults(model, tmp_path):
     html = (out / "report.html").read_text(encoding="utf-8")
     figures = sorted((out / "figures").glob("*.png")) if (out / "figures").is_dir() else []
     assert figures or "<svg" in html, "the report has no picture"
+    if bim:
+        back_into_the_bim(model, report, tmp_path / "issues.bcf", tmp_path / "results.ifc")
+
+
+def back_into_the_bim(model: Path, report: dict, bcf: Path, ifc: Path) -> None:
+    """The BCF validates against buildingSMART's BCF 2.1 schemas and selects only the file's
+    IfcSpaces and glazed elements; the written IFC carries EN17037_Results on each room's space."""
+    import io
+    import re
+    import zipfile
+
+    import ifcopenshell
+    import ifcopenshell.util.element as ue
+    import xmlschema
+
+    xsd = Path(__file__).parent / "data" / "bcf-2.1"
+    markup, visinfo = (xmlschema.XMLSchema(str(xsd / f"{n}.xsd")) for n in ("markup", "visinfo"))
+    f = ifcopenshell.open(str(model))
+    with zipfile.ZipFile(bcf) as z:
+        for name in z.namelist():
+            if name.endswith(".bcf"):
+                markup.validate(io.BytesIO(z.read(name)))
+            elif name.endswith(".bcfv"):
+                visinfo.validate(io.BytesIO(z.read(name)))
+                for gid in re.findall(r'IfcGuid="([^"]+)"', z.read(name).decode("utf-8")):
+                    assert f.by_guid(gid).is_a() in ("IfcSpace", "IfcWindow", "IfcDoor", "IfcPlate") or \
+                        any(f.by_guid(gid).is_a(c) for c in ("IfcWindow", "IfcDoor", "IfcPlate")), gid
+    out = ifcopenshell.open(str(ifc))
+    rooms = {r["source"]["ids"][0]: r for r in report["rooms"] if r["source"]["format"] == "ifc"}
+    for gid, room in rooms.items():
+        assert ue.get_psets(out.by_guid(gid))["EN17037_Results"]["Status"] == room["status"]

@@ -22,13 +22,21 @@ from en17037cli.terminal import annotate, comparison_table, progress_factory, su
               help="A report.json (or report folder) of an earlier design: fail (exit 1) only where a level or a status "
                    "got worse, or a new room or criterion fails.")
 @junit_option
+@click.option("--bcf", "bcf", type=click.Path(dir_okay=False, path_type=Path), default=None, metavar="FILE",
+              help="Also write a BCF 2.1 file: one topic per room and criterion that fails or cannot be assessed, with a "
+                   "viewpoint at the point that limits it [default: the project file's report.bcf].")
+@click.option("--ifc-out", "ifc_out", type=click.Path(dir_okay=False, path_type=Path), default=None, metavar="FILE",
+              help="Also write a copy of the input IFC with the results in a property set EN17037_Results on every room's "
+                   "IfcSpace and window [default: the project file's report.ifc].")
 @click.option("--no-plots", is_flag=True, help="No pictures: report.html and report.md without maps, fisheyes or charts.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bars and no summary.")
 @click.option("--json", "as_json", is_flag=True,
               help="Print report.json on stdout instead of the verdict table (for scripts; the reports are written too).")
-def check(project_file: Path, out_dir, only, overrides, max_points, baseline, junit, no_plots, quiet, as_json):
+def check(project_file: Path, out_dir, only, overrides, max_points, baseline, junit, bcf, ifc_out, no_plots, quiet,
+          as_json):
     """Run the checks of PROJECT_FILE and write the reports."""
     from en17037cli import pipeline
+    from en17037cli.bim import output_path
     from en17037cli.budget import MAX_POINTS
     from en17037cli.project import load_project
     from en17037cli.report.document import build_report
@@ -48,6 +56,15 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
             check_file(junit, "--junit")
         project = load_project(project_file, list(overrides))
         check_folder(out, project.path, WRITERS)  # before any work: a folder we may not write stops here
+        bcf_path = output_path(project, "bcf", bcf)
+        if bcf_path is not None:
+            check_file(bcf_path, "--bcf" if bcf is not None else "report.bcf")
+        ifc_path = output_path(project, "ifc", ifc_out)
+        if ifc_path is not None:
+            from en17037cli.bim.frames import require_ifc
+
+            require_ifc(project, "--ifc-out" if ifc_out is not None else "report.ifc")
+            check_file(ifc_path, "--ifc-out" if ifc_out is not None else "report.ifc")
         plots = not no_plots and pictures_available()
         painters = _painters() if plots else None
         try:
@@ -69,6 +86,16 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
                                    "report.html and report.md are written without them")
         report = build_report(result)
         write_reports(report, out, project.path, figures)
+        if bcf_path is not None:
+            from en17037cli.bim.bcf import bcf_for
+            from en17037cli.report.folder import write_file
+
+            data, n = bcf_for(result, report, figures)
+            write_file(bcf_path, data, "--bcf" if bcf is not None else "report.bcf")
+            if not quiet:
+                click.echo(f"bcf: {n} topic(s) in {bcf_path}", err=True)
+        if ifc_path is not None:
+            _write_ifc(result, report, ifc_path, "--ifc-out" if ifc_out is not None else "report.ifc", quiet)
         comparison = None
         if before is not None:
             from en17037cli.compare import compare_reports
@@ -96,6 +123,25 @@ def check(project_file: Path, out_dir, only, overrides, max_points, baseline, ju
     if comparison is not None:
         sys.exit(comparison.exit_code)
     sys.exit(EXIT_PASS if report["status"] == "pass" else EXIT_FAIL)
+
+
+def _write_ifc(result, report: dict, path: Path, flag: str, quiet: bool) -> None:
+    """The IFC file(s) holding the rooms' spaces and windows, with the results (:mod:`en17037cli.bim.ifc_out`):
+    ``path`` itself where one file holds them (the usual case), else ``<stem>-<input stem>.ifc`` beside it per file."""
+    from en17037cli.bim.frames import ModelFiles
+    from en17037cli.bim.ifc_out import ifc_files_with_results, results_ifc
+    from en17037cli.report.folder import write_file
+
+    sources = ifc_files_with_results(report)
+    if not sources:
+        click.echo(f"warning: {flag}: no room or window of the check comes from an IFC file; nothing written", err=True)
+        return
+    files = ModelFiles(result.project)
+    for src in sources:
+        target = path if len(sources) == 1 else path.with_name(f"{path.stem}-{Path(src).stem}{path.suffix}")
+        write_file(target, results_ifc(result, report, src, files), flag)
+        if not quiet:
+            click.echo(f"ifc: results of {src} in {target}", err=True)
 
 
 def _painters():

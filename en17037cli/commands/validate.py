@@ -57,6 +57,7 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
     click.echo("faces per layer: " + ", ".join(f"{k} {v}" for k, v in scene.layer_counts().items()))
     for display, line in scene.read:  # what each reader read and left out
         click.echo(f"read {display}: {line}")
+    from en17037cli.report.validation import kind_entry, kind_text
     from en17037cli.scene.site import bearing_label, location_lines
 
     for line in location_lines(project, scene):  # where the run takes the site and north from
@@ -71,10 +72,12 @@ def validate(project_file: Path, overrides, max_points, objects, as_json, plan_d
             click.echo(f"storey '{storey}':")
         if room.problem:
             click.echo(f"room '{room.name}': NOT ASSESSABLE: {room.problem}")
+            click.echo(f"  kind: {kind_text(kind_entry(room))}")
             continue
         z0 = room.floor_z + scene.origin[2]
         click.echo(f"room '{room.name}': floor {room.floor.area:.2f} m² at z {z0:.3f} m ({room.floor_source}), ceiling at "
                    f"z {room.ceiling_z + scene.origin[2]:.3f} m ({room.ceiling_source}), {len(room.windows)} window(s)")
+        click.echo(f"  kind: {kind_text(kind_entry(room))}")
         for w in room.windows:
             bounding.add(w.name)
             n = ", ".join(f"{round(c, 4) + 0.0:.4f}" for c in w.normal)  # + 0.0: no "-0.0000"

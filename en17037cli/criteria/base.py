@@ -17,6 +17,13 @@ from en17037cli.errors import NotAssessable
 from en17037cli.project.settings import Project
 from en17037cli.raytrace import RayEngine
 from en17037cli.scene.model import Room, Scene
+from en17037cli.standard import Thresholds
+
+
+def room_thresholds(project: Project, room: Room) -> Thresholds:
+    """The thresholds ``room`` is judged by: those its kinds ask (``RoomSpec.thresholds``,
+    project/kinds.py: the daylight targets of a practice per room kind), else the project's."""
+    return room.spec.thresholds or project.thresholds
 
 
 @dataclass(frozen=True)

@@ -62,6 +62,31 @@ def zones_of(product) -> tuple[str, ...]:
                          and r.RelatingGroup.Name}))
 
 
+def space_usage(product) -> tuple[tuple[str, str], ...]:
+    """What the file says ``product`` (an IfcSpace) is used for (:attr:`Space.usage`): its LongName,
+    Name, ObjectType, its IfcSpaceType's Name and the classification references associated with it or
+    its type (IfcRelAssociatesClassification: Identification, or ItemReference in IFC2X3, and Name),
+    each with its IfcClassification's Name."""
+    import ifcopenshell.util.classification as uc
+    import ifcopenshell.util.element as ue
+
+    out = [(k, v) for k, v in (("LongName", getattr(product, "LongName", None)), ("Name", product.Name),
+                               ("ObjectType", getattr(product, "ObjectType", None))) if v]
+    kind = ue.get_type(product)
+    if kind is not None and kind.Name:
+        out.append(("IfcSpaceType", kind.Name))
+    refs = []
+    for ref in uc.get_references(product):
+        if not ref.is_a("IfcClassificationReference"):
+            continue
+        system = uc.get_classification(ref)
+        code = getattr(ref, "Identification", None) or getattr(ref, "ItemReference", None) or ""
+        text = " ".join(x for x in (code, ref.Name or "") if x)
+        if text:
+            refs.append((f"classification '{(system.Name if system is not None else '') or '?'}'", text))
+    return tuple(out + sorted(refs))  # references come as a set: sorted, for a stable report
+
+
 def read_spaces(f, shapes, place) -> list[Space]:
     """Every IfcSpace of ``f`` as a Space.
 
@@ -80,7 +105,8 @@ def read_spaces(f, shapes, place) -> list[Space]:
     out = []
     for product in spaces:
         common = dict(id=product.GlobalId, name=product.Name or "", long_name=getattr(product, "LongName", None) or "",
-                      storey=storey_of(product), windows=boundary_elements(product), zones=zones_of(product))
+                      storey=storey_of(product), windows=boundary_elements(product), zones=zones_of(product),
+                      usage=space_usage(product))
         tri = geometry.get(product.id())
         fp = None if tri is None else space_footprint(tri)
         if fp is None:

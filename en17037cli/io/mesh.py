@@ -96,6 +96,10 @@ class Space:
     problem : why the space has no usable floor ("" when it has one): reported, never dropped
     kind : what the file calls it ("IfcSpace", "gbXML Space"): a project's ``ifc_spaces`` /
         ``gbxml_spaces`` glob picks spaces of its kind
+    usage : what the file says the space is used for, as (where, text) pairs: ("LongName", ...),
+        ("Name", ...), ("ObjectType", ...), ("IfcSpaceType", type name), ("classification
+        'Uniclass 2015'", "SL_45_10_09 Bedrooms"), ("gbXML spaceType", ...); the scene reads the
+        room's kind from them (``scene/kinds.py``)
     """
 
     id: str
@@ -111,6 +115,7 @@ class Space:
     body: np.ndarray | None = None
     problem: str = ""
     kind: str = "IfcSpace"
+    usage: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from en17037cli.errors import InputError
+from en17037cli.practice import PRACTICES
 from en17037cli.project.glare_settings import glare_settings
+from en17037cli.project.kinds import kind_rules, kind_values
 from en17037cli.project.overrides import apply_overrides, moot_overrides
 from en17037cli.project.schema import fill_defaults, key_path, validation_errors
 from en17037cli.project.settings import (
@@ -34,7 +36,7 @@ from en17037cli.project.settings import (
 )
 from en17037cli.project.yaml12 import parse_yaml_or_fail
 from en17037cli.schemas import load_schema
-from en17037cli.standard import GLARE_DGP_LIMITS, PRACTICES, THRESHOLDS, Thresholds
+from en17037cli.standard import GLARE_DGP_LIMITS, THRESHOLDS, Thresholds
 
 
 def read_points_csv(path: Path, what: str) -> list[list[float]]:
@@ -159,6 +161,7 @@ def load_project(path: str | Path, overrides: list[str] | None = None) -> Projec
         config["glare"].setdefault("dgp_limits", dict(GLARE_DGP_LIMITS))
     _check_consistency(path, config)
     return replace(_settings(path, config), practice=config["practice"], practice_set=practice_set,
+                   kind_rules=kind_rules(config), by_kind=kind_values(path, config),
                    warnings=tuple(moot_overrides(config, overrides or [])))
 
 
@@ -189,7 +192,7 @@ def _settings(path: Path, config: dict) -> Project:
     directory = path.resolve().parent
     requirements = Requirements(**config["requirements"])
     rooms = []
-    for i, room in enumerate(config["rooms"]):
+    for i, room in enumerate(config.get("rooms", [])):
         vp = room.get("view_points")
         if isinstance(vp, str):
             vp = [vp]
@@ -207,7 +210,7 @@ def _settings(path: Path, config: dict) -> Project:
             window_margin_m=float(room["window_margin_m"]),
             view_points=None if vp is None else np.asarray(vp, dtype=float),
             sun_points=None if "sun_points" not in room else np.asarray(room["sun_points"], dtype=float),
-            requirements=req))
+            requirements=req, own_requirements=tuple(room.get("requirements", {}))))
     loc = config.get("location")
     return Project(
         path=path.resolve(), name=config["name"], model=model_settings(config["model"], directory), rooms=tuple(rooms),
@@ -223,7 +226,7 @@ def _settings(path: Path, config: dict) -> Project:
 
 def _check_consistency(path: Path, config: dict) -> None:
     """Rules a JSON Schema cannot express; each raises a one-line :class:`InputError`."""
-    for i, r in enumerate(config["rooms"]):
+    for i, r in enumerate(config.get("rooms", [])):
         clash = [k for k in ("name", "floor", "inside", "view_points", "sun_points") if k in r] if "auto" in r else []
         if clash:
             raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with auto (one entry stands for every room the walls "
@@ -235,7 +238,7 @@ def _check_consistency(path: Path, config: dict) -> None:
             if clash:
                 raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with {key} (one entry stands for every matched "
                                  "space, which gives its name and floor); write the room out instead")
-    names = [r["name"] for r in config["rooms"] if "name" in r]
+    names = [r["name"] for r in config.get("rooms", []) if "name" in r]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
         raise InputError(f"{path}: rooms: room name '{dupes[0]}' is used twice; give each room its own name")

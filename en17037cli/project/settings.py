@@ -5,7 +5,7 @@ keys; scene building, engines and reports receive these objects. Units are in th
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -141,6 +141,9 @@ class RoomSpec:
     auto: bool = False  # one room per region the walls enclose with a window (scene/section.py)
     auto_all_storeys: bool = False  # auto without floor_z: at every storey of the model
     inside: np.ndarray | None = None  # (2,) [m] a point in the room: picks the region around it
+    own_requirements: tuple[str, ...] = ()  # the checks whose level the entry's own 'requirements' gives
+    #: the thresholds of the room where its kinds ask others than the project's (project/kinds.py), else None
+    thresholds: Thresholds | None = None
 
 
 @dataclass(frozen=True)
@@ -306,6 +309,8 @@ class Project:
     glare: GlareSettings | None = None
     practice: str = "en17037"
     practice_set: tuple[tuple[str, object], ...] = ()  # the values the practice set (key path, value)
+    kind_rules: tuple = ()  # the room_kinds rules (project/kinds.py KindRule), first match wins
+    by_kind: dict = field(default_factory=dict)  # room kind -> what its rooms are asked (project/kinds.py KindValues)
     warnings: tuple[str, ...] = ()  # overrides that change nothing under these settings, with why
 
     @property

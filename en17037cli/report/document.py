@@ -8,8 +8,10 @@ from __future__ import annotations
 
 from en17037cli.criteria import CRITERIA, Unassessed
 from en17037cli.pipeline import RunResult
+from en17037cli.practice import PRACTICES
 from en17037cli.report.numbers import json_number, json_xyz
-from en17037cli.standard import PRACTICES
+from en17037cli.report.sources import Sources
+from en17037cli.report.validation import kind_entry
 from en17037cli.version import __version__
 
 SCHEMA_VERSION = "2.0"  # 2.0: decimal hours in fields named *_h (hours -> hours_h)
@@ -52,6 +54,16 @@ def spaces_entry(scene) -> dict:
     return {"spaces_left_out": [{"name": lo.name, "reason": lo.reason, "windows": list(lo.windows)} for lo in scene.left_out]}
 
 
+def practice_entry(project) -> dict:
+    """The practice the project follows, its source, the values it set, and those it set per room kind."""
+    practice = PRACTICES[project.practice]
+    out = {"name": project.practice, "source": practice.source, "set": {k: v for k, v in project.practice_set}}
+    kinds = {kind: {k: kv.values[k] for k, src in kv.set.items() if src.startswith("practice ")}
+             for kind, kv in project.by_kind.items()}
+    kinds = {kind: v for kind, v in kinds.items() if v}
+    return out | ({"kinds": kinds, "kinds_source": practice.kinds_source} if kinds else {})
+
+
 def build_report(result: RunResult) -> dict:
     """The ``report.json`` document (validates against ``schemas/report.schema.json``).
 
@@ -61,15 +73,18 @@ def build_report(result: RunResult) -> dict:
     resolved = {"resolved": scene.resolved} if scene.resolved else {}
     rooms = []
     notes = list(scene.notes)
+    sources = Sources(scene, project)
     for r in result.rooms:
         room = r.room
         entry = {
             "name": room.name,
+            "source": sources.room(room),
             "status": "pass",
             "floor_area_m2": json_number(room.floor.area, 4),
             "floor_source": room.floor_source,
-            "windows": [{"name": w.name, "area_m2": json_number(w.area_m2, 4), "outward_normal": json_xyz(w.normal, 6),
-                         "sill_z_m": json_number(w.sill_z + scene.origin[2], 4),
+            "kind": kind_entry(room),
+            "windows": [{"name": w.name, "source": sources.window(w), "area_m2": json_number(w.area_m2, 4),
+                         "outward_normal": json_xyz(w.normal, 6), "sill_z_m": json_number(w.sill_z + scene.origin[2], 4),
                          "head_z_m": json_number(w.head_z + scene.origin[2], 4)}
                         for w in room.windows],
         }
@@ -106,8 +121,7 @@ def build_report(result: RunResult) -> dict:
                     **({"description": project.config["description"]} if project.config.get("description") else {})},
         "inputs": {"config": project.config, "model_files": scene.file_hashes, "local_origin_m": json_xyz(scene.origin, 6),
                    "checks_run": list(result.checks_run), "site": site_entry(scene), **resolved},
-        "practice": {"name": project.practice, "source": PRACTICES[project.practice].source,
-                     "set": {k: v for k, v in project.practice_set}},
+        "practice": practice_entry(project),
         "status": result.status,
         "summary": summary(result),
         "dwellings": [dwelling_entry(d, project.requirements.sunlight_rooms) for d in result.dwellings],

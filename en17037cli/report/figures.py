@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from en17037cli.criteria.base import room_thresholds
 from en17037cli.pipeline import RunResult
 
 #: Sub-folder of the report folder holding the PNG files.
@@ -156,11 +157,12 @@ def daylight_jobs(result: RunResult, i: int, slug: str) -> list[Job]:
     from en17037cli import standard
 
     xy = result.scene.to_world(res.points_local)[:, :2]
-    et = result.project.thresholds.daylight_target_lx.as_dict()
+    th_room = room_thresholds(result.project, r.room)  # a practice's targets per room kind, or the project's
+    et = th_room.daylight_target_lx.as_dict()
     if res.daylight_factor_pct is not None:
         dt = {k: round(100.0 * v / res.median_diffuse_lx, 2) for k, v in et.items()}
-        etm = result.project.thresholds.daylight_minimum_target_lx.as_dict()
-        lines = [100.0 * v / res.median_diffuse_lx for v in [*et.values(), *etm.values()]]
+        etm = th_room.daylight_minimum_target_lx.as_dict()
+        lines = [100.0 * v / res.median_diffuse_lx for v in [*et.values(), *etm.values()] if v > 0]
         near = np.any([np.abs(res.daylight_factor_pct - t) <= res.daylight_factor_err_pct for t in lines], axis=0)
         kind, vals, th, words = "daylight_factor", res.daylight_factor_pct, dt, "daylight factor"
     else:

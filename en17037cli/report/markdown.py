@@ -4,6 +4,7 @@ from __future__ import annotations
 from en17037cli.report.glare_text import glare_markdown, glare_parameters
 from en17037cli.report.labels import STATUS_LABEL, assessed, is_repair, md, unassessed
 from en17037cli.report.numbers import fmt_bound, fmt_duration
+from en17037cli.report.validation import kind_text
 from en17037cli.report.verdicts import limit_text
 from en17037cli.standard import LEVELS
 
@@ -104,6 +105,10 @@ def parameter_lines(report: dict) -> list[str]:
           f"{fmt(t['outside_distance_m'])} m, sunlight {fmt(t['sunlight_hours'])} h"
           + (f", daylight target {fmt(t['daylight_target_lx'])} lx on 50 % and minimum target {fmt(t['daylight_minimum_target_lx'])} "
              "lx on 95 % of the plane." if "daylight" in cfg else ".")]
+    for kind, values in report["practice"].get("kinds", {}).items():  # a practice's values per room kind
+        L += [f"Practice {report['practice']['name']} for a {kind.replace('_', ' ')}: "
+              + ", ".join(f"{k.removeprefix('thresholds.')} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in values.items())
+              + f" ({report['practice']['kinds_source']})."]
     return L
 
 
@@ -136,8 +141,10 @@ def daylight_table(d: dict) -> list[list[str]]:
     for name, lv in d["levels"].items():
         dt = f" (D {lv['target_daylight_factor_pct']:g} %)" if "target_daylight_factor_pct" in lv else ""
         dtm = f" (D {lv['minimum_target_daylight_factor_pct']:g} %)" if "minimum_target_daylight_factor_pct" in lv else ""
+        none = lv["minimum_target_lx"] == 0  # a practice that asks no minimum target (gb-br209-2022 per room kind)
         rows.append([name, f"{lv['target_lx']:g} lx{dt}", f"{lv['target_share']:.0%} ± {lv['target_share_error']:.0%}",
-                     f"{lv['minimum_target_lx']:g} lx{dtm}", f"{lv['minimum_target_share']:.0%} ± {lv['minimum_target_share_error']:.0%}"])
+                     "none asked" if none else f"{lv['minimum_target_lx']:g} lx{dtm}",
+                     "-" if none else f"{lv['minimum_target_share']:.0%} ± {lv['minimum_target_share_error']:.0%}"])
     return rows
 
 
@@ -152,6 +159,16 @@ def window_rows(room: dict) -> list[list[str]]:
         rows.append([w["name"], f"{w['area_m2']}", f"{w['sill_z_m']} / {w['head_z_m']}",
                      "" if not p.get("point_p_m") else ", ".join(f"{c:g}" for c in p["point_p_m"]), hours])
     return rows
+
+
+def solid_angle_words(ee: dict) -> str:
+    """The view's solid angles' error as the reports print it: the estimate, and with ``view.refine:
+    decided`` the widest interval and the tolerance it was refined to (docs/method.md)."""
+    words = f"solid angles {fmt_bound(ee['max_solid_angle_error_sr'])} sr"
+    if ee.get("refine") == "decided" and ee.get("max_solid_angle_interval_sr") is not None:
+        words += (f" (computed as finely as the levels and view.tolerance {ee['tolerance']:g} need: every interval at most "
+                  f"{ee['max_solid_angle_interval_sr']} sr wide)")
+    return words
 
 
 class Markup(str):
@@ -183,7 +200,7 @@ def report_markdown(report: dict, figures=()) -> str:
     if attention:
         L += ["**Warnings:**", ""] + [f"- {md(w)}" for w in attention] + [""]
     for room in report["rooms"]:
-        L += ["", f"## Room {md(room['name'])}", ""]
+        L += ["", f"## Room {md(room['name'])}", "", f"Kind: {md(kind_text(room['kind']))}.", ""]
         if room.get("problem"):
             L += [f"Not assessable: {md(room['problem'])}", ""]
         L += _md_table(window_rows(room)) + [""]
@@ -193,7 +210,7 @@ def report_markdown(report: dict, figures=()) -> str:
             ee = v["error_estimates"]
             L += [f"**View out: {v['level']}** (required {v['required']}, {STATUS_LABEL[v['status']]}); "
                   f"{md(limit_text('view', v))}.", "",
-                  f"Error estimates: solid angles {fmt_bound(ee['max_solid_angle_error_sr'])} sr, sight angle "
+                  f"Error estimates: {solid_angle_words(ee)}, sight angle "
                   f"{fmt_bound(ee['max_horizontal_sight_angle_error_deg'])} deg, outside distance "
                   f"{fmt_bound(ee['max_outside_distance_error_m'])} m."]
             for e in v["eye_heights"]:

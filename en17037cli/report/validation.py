@@ -19,7 +19,7 @@ def validation_document(project_file, project, scene, pf, cost, budget: int) -> 
     bounding = {w.name for room in scene.rooms for w in room.windows}
     rooms = []
     for room in scene.rooms:
-        entry = {"name": room.name, "storey": room.storey or None, "problem": room.problem}
+        entry = {"name": room.name, "storey": room.storey or None, "problem": room.problem, "kind": kind_entry(room)}
         if not room.problem:
             entry.update({
                 "floor_area_m2": json_number(room.floor.area, 3), "floor_z_m": json_number(room.floor_z + z0, 3),
@@ -46,6 +46,31 @@ def validation_document(project_file, project, scene, pf, cost, budget: int) -> 
         "warnings": list(pf.warnings), "notes": list(scene.notes),
     }
     return doc
+
+
+def kind_entry(room) -> dict:
+    """What ``room`` is used for (``scene/kinds.py``), where that came from, and what its kinds set:
+    key path -> the room's value and where it comes from (report.json and ``validate --json``)."""
+    return {"uses": list(room.kinds), "source": room.kind_source,
+            "set": {key: {"value": value, "from": src} for key, value, src in room.by_kind}}
+
+
+def kind_text(kind: dict) -> str:
+    """``living room + kitchen (LongName 'Wohnküche': name table 'wohn', 'kuche'); daylight target 200 lx
+    at minimum (practice gb-br209-2022, kitchen)``: a room's :func:`kind_entry` in words (``validate``,
+    report.md and report.html)."""
+    said: dict[str, list[str]] = {}  # where from -> what, in the order of the keys
+    for key, v in kind["set"].items():
+        parts = key.split(".")
+        if parts[0] != "thresholds":
+            said.setdefault(v["from"], []).append(f"{parts[1]} required {v['value']}")
+        elif parts[1] == "daylight_minimum_target_lx" and v["value"] == 0:
+            said.setdefault(v["from"], []).append(f"no daylight minimum target at {parts[2]}")
+        else:
+            what = {"daylight_target_lx": "daylight target", "daylight_minimum_target_lx": "daylight minimum target"}
+            said.setdefault(v["from"], []).append(f"{what.get(parts[1], parts[1])} {v['value']:g} lx at {parts[2]}")
+    return (f"{' + '.join(k.replace('_', ' ') for k in kind['uses'])} ({kind['source']})"
+            + "".join(f"; {', '.join(what)} ({src})" for src, what in said.items()))
 
 
 def bearing_number(b: float | None):

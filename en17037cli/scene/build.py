@@ -14,6 +14,8 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.project.settings import Project
+from en17037cli.scene.city_frame import city_frame
+from en17037cli.scene.kinds import assign_kinds
 from en17037cli.scene.load import load_geometry
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry, Scene
 from en17037cli.scene.openings import join_openings
@@ -34,6 +36,9 @@ def building_centre(g: Geometry) -> np.ndarray:
 def build_scene(project: Project) -> Scene:
     """Load the project's geometry and resolve windows and rooms (see module docstring)."""
     where = project.path.name
+    if not project.rooms:
+        raise InputError(f"{where}: rooms: none given; check, validate, batch and study assess rooms: give rooms (docs/rooms.md), "
+                         "or probe the city model's facades with 'en17037 screen' (its screen: section)")
     g = load_geometry(project.model, where)
     win_mask = g.layer == WINDOW
     if not np.any(win_mask):
@@ -51,8 +56,9 @@ def build_scene(project: Project) -> Scene:
     if len(dropped):
         g.notes.append(f"{len(dropped)} glazing faces of glass modelled as thin solids (inner faces, rims) left out: "
                        "each pane keeps its outer face")
-    north, north_src, site_warnings = resolve_north(project, g)
-    location, resolved, loc_warnings, loc_notes = resolve_location(project, g, where)
+    city = city_frame(g, origin[:2], project.model.files) if g.context else None  # the building set in a georeferenced city model
+    north, north_src, site_warnings = resolve_north(project, g, city)
+    location, resolved, loc_warnings, loc_notes = resolve_location(project, g, where, city)
     g.notes.extend(loc_notes)
     if north_src:
         resolved["model.true_north_deg"] = north_src
@@ -60,7 +66,7 @@ def build_scene(project: Project) -> Scene:
                   part=g.part, notes=g.notes, warnings=[*project.warnings, *g.warnings, *site_warnings, *loc_warnings],
                   file_hashes=g.file_hashes,
                   sites=g.sites, spaces=g.spaces, optics=g.optics, read=g.read, windows_left_out=g.windows_left_out,
-                  context=g.context,
+                  context=g.context, files=g.files,
                   origin=origin, windows=windows, true_north_deg=north, location=location, resolved=resolved)
     partly, hidden = check_glazing_over_opaque(local, g.triangles, g.layer, windows, g.parts, g.part, where)
     scene.warnings.extend(partly)
@@ -83,6 +89,7 @@ def build_scene(project: Project) -> Scene:
     scene.notes.extend(join_openings(scene))  # one window per opening, whatever the format
     for i, room in enumerate(scene.rooms):  # indices in the scene's order: ray groups and reports follow it
         room.index = i
+    assign_kinds(scene, project)  # what each room is used for, and what its uses ask of it
     if scene.context:
         from en17037cli.scene.context import context_warnings
 

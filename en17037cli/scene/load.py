@@ -246,7 +246,7 @@ def placed_space(space: Space, spec: ModelFile) -> Space:
 
 def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> Geometry:
     all_v, all_t, all_l, all_s, all_p, all_o, parts = [], [], [], [], [], [], []
-    context = []
+    context, spans = [], []
     offset = 0
     dropped = glazing_parts = 0
     for f in files:  # one pass per model file
@@ -267,8 +267,9 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
         all_s.append(sun[keep])
         all_o.append(np.full((int(np.count_nonzero(keep)), 2), np.nan) if f.part_optics is None else f.part_optics[mesh.part[keep]])
         all_p.append(mesh.part[keep] + len(parts))
+        spans.append((f.index, f.spec.display, len(parts), len(parts) + len(mesh.parts)))
         if is_context(f.spec.path):
-            context.append((f.index, f.spec.display, len(parts), len(parts) + len(mesh.parts)))
+            context.append(spans[-1])
         parts.extend(replace(p, attrs={**p.attrs, "file": f.spec.path.stem}) for p in mesh.parts)
         offset += len(verts)
     if dropped:
@@ -283,7 +284,7 @@ def _assemble(files: list[LoadedFile], notes, warnings, hashes, where: str) -> G
                  optics=np.concatenate(all_o) if any(f.part_optics is not None for f in files) else None,
                  read=[(f.spec.display, read_summary(f.mesh)) for f in files],
                  windows_left_out=[(f.spec.display, *w) for f in files for w in f.mesh.windows_left_out],
-                 context=context, located=located_files(files))
+                 context=context, located=located_files(files), files=spans)
     if glazing_parts and not np.any(g.layer == WINDOW):
         raise InputError(f"{where}: model.files: every face of the {glazing_parts} object(s) on the 'window' layer is "
                          "degenerate, NaN or infinite (zero area); re-export the glazing")

@@ -5,7 +5,7 @@ settings; engines read it.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -47,6 +47,9 @@ class Window:
     #: [m] how far behind the glazing the room's space begins (its boundary: the wall's room-side face
     #: as the model draws the space), where the room is a space of the model; else None
     space_distance_m: float | None = None
+    #: indices into ``Scene.parts`` of every part whose glazing made the window (faces hidden behind
+    #: others of it and the panes joined into it included): the elements it stands for (report ``source``)
+    parts: tuple[int, ...] = ()
 
     @property
     def centroid(self) -> np.ndarray:
@@ -66,8 +69,7 @@ class Window:
 
     def facing(self, normal: np.ndarray) -> Window:
         """The same window with ``normal`` as its outward normal."""
-        return Window(self.name, self.index, self.face_ids, self.triangles, normal, self.area_m2, self.key, self.host,
-                      self.open_depth_m, self.space_distance_m)
+        return replace(self, normal=normal)
 
 
 @dataclass
@@ -97,6 +99,13 @@ class Room:
     #: why no verdict is given although the criteria ran: windows of the room were quarantined
     #: (:class:`Quarantined`); its levels are computed without them, and it never passes
     withheld: str | None = None
+    usage: tuple[tuple[str, str], ...] = ()  # what the model says it is used for (its space's Space.usage)
+    #: its uses (practice.ROOM_KINDS) and where they came from, and what they set: (key path, value,
+    #: from) each (scene/kinds.py)
+    kinds: tuple[str, ...] = ()
+    kind_source: str = ""
+    by_kind: tuple[tuple[str, object, str], ...] = ()
+    space: int | None = None  # index into Scene.spaces of the space (IfcSpace, gbXML Space) it was made from
 
 
 @dataclass(frozen=True)
@@ -165,6 +174,7 @@ class Geometry:
     windows_left_out: list = field(default_factory=list)
     context: list = field(default_factory=list)  # (model.files index, file, first part, end part) of city models
     located: list = field(default_factory=list)  # (file, Located) where a georeferenced file's CRS puts it
+    files: list = field(default_factory=list)  # (model.files index, file, first part, end part) of every file read
 
 
 @dataclass(kw_only=True)

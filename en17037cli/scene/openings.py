@@ -60,8 +60,8 @@ def same_opening(a: Window, b: Window) -> bool:
 def joined(members: list[Window]) -> Window:
     """One window of the panes ``members`` (in the scene's order): the first one's name, key,
     normal and index, every pane's faces but those hidden behind others of it (double glazing
-    drawn as two panes: :func:`~en17037cli.scene.windows.covered_faces`), the hosts of all; its
-    area counts each part of the opening once."""
+    drawn as two panes: :func:`~en17037cli.scene.windows.covered_faces`), the hosts and the parts
+    (elements) of all, hidden ones included; its area counts each part of the opening once."""
     if len(members) == 1:
         return members[0]
     first = members[0]
@@ -73,7 +73,7 @@ def joined(members: list[Window]) -> Window:
     name = first.name if len({m.key for m in members}) == 1 and first.key else f"{first.name} (+{more} pane{'s' * (more > 1)})"
     host = tuple(sorted({h for m in members for h in m.host}))
     return Window(name=name, index=first.index, face_ids=ids[~hidden], triangles=tris[~hidden], normal=first.normal,
-                  area_m2=area, key=first.key, host=host,
+                  area_m2=area, key=first.key, host=host, parts=tuple(sorted({x for m in members for x in m.parts})),
                   open_depth_m=max(m.open_depth_m for m in members),
                   space_distance_m=None if all(m.space_distance_m is None for m in members)
                   else min(m.space_distance_m for m in members if m.space_distance_m is not None))

@@ -358,7 +358,7 @@ def rooms_from_spaces(scene: Scene, spec: RoomSpec, where: str) -> list[Room]:
             why = str(exc).split(": ", 2)[-1]
             scene.left_out.append(LeftOut(name, f"its footprint is not usable ({why})", tuple(w.name for w, _ in chosen)))
             continue
-        room.zones, room.storey = space.zones, space.storey
+        room.zones, room.storey, room.usage, room.space = space.zones, space.storey, space.usage, i
         room.floor_source, room.ceiling_source = f"the {kind}'s footprint", f"the {kind}'s top"
         rooms.append(room)
     return rooms

@@ -148,6 +148,9 @@ def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarr
         centre = vertices.mean(axis=0)
     keep = outer_surface(tv, normals, areas, solid, centre)
     dropped = face_ids[~keep]
+    # the parts of the faces a thin solid leaves out, by solid: a window stands for them too (its source)
+    drop_solid, drop_part = solid[~keep], part[dropped]
+    solid = solid[keep]
     face_ids, tri, tv, normals, areas, wkey, keyed = (x[keep] for x in (face_ids, tri, tv, normals, areas, wkey, keyed))
     a, b = shared_edges(t[keep])
     cos_ok = np.abs(np.einsum("ij,ij->i", normals[a], normals[b])) >= np.cos(np.radians(COPLANAR_ANGLE_DEG))
@@ -179,6 +182,7 @@ def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarr
         normal = (n * ar[:, None]).sum(axis=0)
         normal /= np.linalg.norm(normal)
         area = float(ar.sum())
+        made_of = np.unique(np.concatenate([part[face_ids[members]], drop_part[np.isin(drop_solid, solid[members])]]))
         if wkey[members[0]]:  # a product's panes at several depths: each part of the opening once
             cover, seen_area = covered_faces(tris, normal if (tris.mean(axis=(0, 1)) - centre) @ normal >= 0 else -normal)
             if cover.any():
@@ -198,7 +202,8 @@ def find_windows(vertices: np.ndarray, triangles: np.ndarray, face_ids: np.ndarr
             name = f"{name} #{seen[name]}"
         first = parts[part[face_ids[members[0]]]]
         windows.append(Window(name=name, index=k, face_ids=face_ids[members], triangles=tris, normal=normal,
-                              area_m2=area, key=wkey[members[0]] or None, host=tuple(first.host)))
+                              area_m2=area, key=wkey[members[0]] or None, host=tuple(first.host),
+                              parts=tuple(int(x) for x in made_of)))
     return windows, np.sort(np.concatenate([dropped, *hidden])) if hidden else dropped
 
 

@@ -31,9 +31,10 @@ def box_shell(x0, x1, y0, y1, z0, z1):
     return [c[::-1], t] + [[c[i], c[(i + 1) % 4], t[(i + 1) % 4], t[i]] for i in range(4)]
 
 
-def space(sid: str, name: str, shell, storey: str = "st1", **kw) -> str:
+def space(sid: str, name: str, shell, storey: str = "st1", space_type: str = "", **kw) -> str:
     loops = "".join(poly_loop(r, **kw) for r in shell)
-    return (f'<Space id="{sid}" buildingStoreyIdRef="{storey}" zoneIdRef="z1"><Area>1</Area>'
+    st = f' spaceType="{space_type}"' if space_type else ""
+    return (f'<Space id="{sid}"{st} buildingStoreyIdRef="{storey}" zoneIdRef="z1"><Area>1</Area>'
             f'<ShellGeometry id="{sid}-shell"><ClosedShell>{loops}</ClosedShell></ShellGeometry><Name>{name}</Name></Space>')
 
 
@@ -50,8 +51,8 @@ def document(spaces: list[str], surfaces: list[str], unit: str | None = "Meters"
 
 
 def box_room_gbxml(b: BoxRoom | None = None, facade_kind: str = "ExteriorWall", unit: str = "Meters", turn_deg: float = 0.0,
-                   azimuth: float | None = None) -> str:
-    """The box room as one gbXML Space: its six surfaces (the facade whole, the glazing an Opening 'glazing' of it),
+                   azimuth: float | None = None, space_name: str = "box room", space_type: str = "") -> str:
+    """The box room as one gbXML Space (``space_name``, ``space_type`` its spaceType attribute): its six surfaces (the facade whole, the glazing an Opening 'glazing' of it),
     the street building as Shade surfaces and the ground as a Shade named 'ground'. ``facade_kind`` InteriorWall
     writes the facade as Revit sometimes does: an interior wall with the room on both of its sides."""
     b = b or BoxRoom()
@@ -71,7 +72,8 @@ def box_room_gbxml(b: BoxRoom | None = None, facade_kind: str = "ExteriorWall", 
              surface("s-back", "ExteriorWall", [(hw, d, 0), (-hw, d, 0), (-hw, d, h), (hw, d, h)], ("sp1",), **kw)]
     surfs += [surface(f"sh-{k}", "Shade", ring, name=f"street building {k}", **kw) for k, ring in enumerate(polys.get("building", []))]
     surfs += [surface("sh-ground", "Shade", polys["ground"][0], name="ground", **kw)]
-    return document([space("sp1", "box room", box_shell(-hw, hw, 0.0, d, 0.0, h), **kw)], surfs, unit=unit, azimuth=azimuth)
+    return document([space("sp1", space_name, box_shell(-hw, hw, 0.0, d, 0.0, h), space_type=space_type, **kw)], surfs,
+                    unit=unit, azimuth=azimuth)
 
 
 def write(directory: Path, text: str, name: str = "model.xml") -> Path:

@@ -65,6 +65,11 @@ def test_box_room_as_3dfaces_gives_the_obj_box_rooms_report(tmp_path):
     box_room_project(d, BoxRoom(), sunlight=SUN, view=VIEW)
     faces_dxf(d / "model.dxf", box_room_polygons(BoxRoom()))
     dxf_rooms = run_project(tmp_path, "dxf", "model.dxf")
+    # the same figures; where they come from is each file's own (source: format, file, the layer or object name)
+    assert [w["source"]["format"] for r in (*dxf_rooms, *obj_rooms) for w in r["windows"]] == ["dxf", "obj"]
+    for r in (*dxf_rooms, *obj_rooms):
+        for w in r["windows"]:
+            w.pop("source")
     assert dxf_rooms == obj_rooms
     assert obj_rooms[0]["sunlight"]["hours_h"] > 0
 

@@ -80,7 +80,8 @@ def figures(rooms: list) -> list:
         sun = json.loads(json.dumps(r["sunlight"]))
         for w in sun.get("windows", []):  # the model's own id of the window (a gbXML Opening's): not geometry
             w.pop("element_id", None)
-        out.append((r["name"], r["floor_area_m2"], r["windows"], view, sun))
+        windows = [{k: v for k, v in w.items() if k != "source"} for w in r["windows"]]  # the file's own ids: not geometry
+        out.append((r["name"], r["floor_area_m2"], windows, view, sun))
     return out
 
 

@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from en17037cli.criteria.base import Context, Criterion
+from en17037cli.criteria.base import Context, Criterion, room_thresholds
 from en17037cli.criteria.daylight.assess import daylight_factor_room, reference_plane
 from en17037cli.criteria.daylight.results import DaylightResult
 from en17037cli.errors import InputError
@@ -148,8 +148,8 @@ class DaylightCriterion(Criterion):
         from en17037cli.criteria.daylight.gather import reflected_paths, sampling_frame
 
         median, _ = self.median(ctx)
-        et, etm = targets(ctx.project.thresholds)
-        thresholds = sorted({v / median for v in (*et.values(), *etm.values())})
+        et, etm = targets(room_thresholds(ctx.project, room))
+        thresholds = sorted({v / median for v in (*et.values(), *etm.values()) if v > 0})  # 0 lx: reached, never flips
         if sky is None or not self._settings(ctx).radiance.stop_clear_of_thresholds:
             known = None
         elif callable(sky):  # computed in another thread meanwhile
@@ -205,7 +205,7 @@ class DaylightCriterion(Criterion):
                 job = pool.submit(timed_sky)
                 refl = self.reflected(ctx, room, plan, lambda: job.result()[0])
                 sc, t_sky = job.result()
-            res = daylight_factor_room(plan, sc, refl, median, source, ctx.project.thresholds, params)
+            res = daylight_factor_room(plan, sc, refl, median, source, room_thresholds(ctx.project, room), params)
             res.radiance["sky_time_s"] = t_sky
         else:
             from en17037cli.criteria.daylight.climate import climate_room
@@ -229,7 +229,8 @@ class DaylightCriterion(Criterion):
     def report(self, ctx: Context, room, result: DaylightResult) -> dict:
         from en17037cli.criteria.daylight.report import daylight_section
 
-        return daylight_section(ctx.scene, result, self.required(room), self._settings(ctx), ctx.project.thresholds)
+        return daylight_section(ctx.scene, result, self.required(room), self._settings(ctx),
+                                room_thresholds(ctx.project, room))
 
 
 class _AsView:

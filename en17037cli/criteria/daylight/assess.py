@@ -93,8 +93,9 @@ def daylight_factor_room(points: np.ndarray, sky, refl, median_lx: float, source
         share[name] = float(np.mean(df >= dt)) if len(df) else 0.0
         share_m[name] = float(np.mean(df >= dtm)) if len(df) else 0.0
         # error of a share: the points whose D lies within its error of the threshold could go either way
-        e_share[name] = float(np.mean(np.abs(df - dt) <= err)) if len(df) else 0.0
-        e_share_m[name] = float(np.mean(np.abs(df - dtm) <= err)) if len(df) else 0.0
+        # (none for a threshold of 0, which every point reaches: a practice that asks no minimum target)
+        e_share[name] = float(np.mean(np.abs(df - dt) <= err)) if len(df) and dt > 0 else 0.0
+        e_share_m[name] = float(np.mean(np.abs(df - dtm) <= err)) if len(df) and dtm > 0 else 0.0
     level, near = judge(share, share_m, e_share, e_share_m)
     return DaylightResult(method="daylight_factor", points_local=points, median_diffuse_lx=median_lx, median_source=source,
                           target_share=share, minimum_share=share_m, target_share_err=e_share, minimum_share_err=e_share_m,

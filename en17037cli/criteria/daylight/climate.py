@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from en17037cli.criteria.base import room_thresholds
 from en17037cli.criteria.daylight import radiance
 from en17037cli.criteria.daylight.assess import climate_shares, judge, mean_and_error
 from en17037cli.criteria.daylight.gather import SEED, cosine_directions, rtrace_args, sampling_frame
@@ -250,7 +251,7 @@ def climate_room(criterion, ctx, room, points: np.ndarray, settings: DaylightSet
     for r in range(p.replicates):  # a few path sets per room, each for every point
         dc = path_coefficients(S, octree, points, mf, p.climate_rays, r, args, frame, sink_point(ctx.scene))
         per_rep.append(np.maximum(e_direct + radiance.EFFICACY_LM_W * (dc @ sk["all"]), 0.0))
-    thresholds = ctx.project.thresholds
+    thresholds = room_thresholds(ctx.project, room)
     shares = [climate_shares(e, thresholds, settings.aggregation) for e in per_rep]
     lux = sorted(shares[0][2])
     soh = {lx: mean_and_error(np.stack([s[2][lx] for s in shares], axis=-1)) for lx in lux}

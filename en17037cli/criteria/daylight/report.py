@@ -80,7 +80,7 @@ def daylight_section(scene: Scene, res: DaylightResult, required: str, settings:
             entry |= {"target_daylight_factor_pct": json_number(100.0 * et[name] / res.median_diffuse_lx, 4),
                       "minimum_target_daylight_factor_pct": json_number(100.0 * etm[name] / res.median_diffuse_lx, 4)}
         by_level[name] = entry
-    limit = standard.daylight_limit(res.target_share, res.minimum_share, res.level, required)
+    limit = standard.daylight_limit(res.target_share, res.minimum_share, res.level, required, etm)
     df = res.daylight_factor_pct
     rad = {k: v for k, v in res.radiance.items() if not k.endswith("time_s")}
     out = {

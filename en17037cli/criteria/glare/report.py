@@ -130,7 +130,7 @@ def glare_points_csv(report: dict) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["room", "position", "x_m", "y_m", "z_m", "direction_deg", "dgp_5pct", "dgp_5pct_error", "hours_over_0.35",
-                "hours_over_0.40", "hours_over_0.45", "usage_hours", "sun_in_view_hours", "level"])
+                "hours_over_0.40", "hours_over_0.45", "usage_hours", "sun_in_view_hours", "level", "room_source_ids"])
     for room in report["rooms"]:
         sec = room.get("glare")
         if not sec or sec.get("status") not in ("pass", "fail"):
@@ -139,7 +139,7 @@ def glare_points_csv(report: dict) -> str:
             ho = p["hours_over"]
             w.writerow([room["name"], p["label"], *p["point"], p["direction_deg"], p["dgp_5pct"], p["dgp_5pct_error"],
                         ho.get("0.35", ""), ho.get("0.40", ""), ho.get("0.45", ""), p["usage_hours"], p["sun_in_view_hours"],
-                        p["level"]])
+                        p["level"], " ".join(room.get("source", {}).get("ids", ()))])
     return buf.getvalue()
 
 
@@ -147,7 +147,8 @@ def glare_hours_csv(report: dict) -> str:
     """``glare_hours.csv``: the DGP of every usage hour at each room's worst position and direction."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["room", "position", "local_time", "dgp", "dgp_unshaded", "vertical_illuminance_lx", "sun_in_view", "shaded"])
+    w.writerow(["room", "position", "local_time", "dgp", "dgp_unshaded", "vertical_illuminance_lx", "sun_in_view", "shaded",
+                "room_source_ids"])
     for room in report["rooms"]:
         sec = room.get("glare")
         if not sec or "hourly" not in sec:
@@ -155,5 +156,6 @@ def glare_hours_csv(report: dict) -> str:
         h = sec["hourly"]
         label = sec["positions"][h["position"]]["label"]
         rows = zip(h["local_time"], h["dgp"], h["dgp_unshaded"], h["vertical_illuminance_lx"], h["sun_in_view"], h["shaded"])
-        w.writerows([room["name"], label, t, d, u, e, int(s), int(sh)] for t, d, u, e, s, sh in rows)
+        ids = " ".join(room.get("source", {}).get("ids", ()))
+        w.writerows([room["name"], label, t, d, u, e, int(s), int(sh), ids] for t, d, u, e, s, sh in rows)
     return buf.getvalue()

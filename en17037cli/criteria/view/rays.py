@@ -22,16 +22,30 @@ class ViewRays:
         self.engine, self.scene = engine, scene
         self.face_class = np.select([scene.layer == LANDSCAPE, scene.layer == GROUND], [LANDSCAPE_HIT, GROUND_HIT],
                                     BLOCKED).astype(np.int8)
-        self._ground_top_z: float | None = None
+        self._top_z: dict[int, float] = {}
+
+    def _top(self, layer: int) -> float:
+        """The highest point of any face of ``layer`` [m], local frame (-inf: none)."""
+        if layer not in self._top_z:
+            triangles = getattr(self.scene, "triangles", None)
+            if triangles is None:  # a scene of layers only (the district's): every direction stays possible
+                self._top_z[layer] = np.inf
+            else:
+                faces = triangles[self.scene.layer == layer]
+                self._top_z[layer] = float(self.scene.vertices[faces][..., 2].max()) if len(faces) else -np.inf
+        return self._top_z[layer]
 
     @property
     def ground_top_z(self) -> float:
-        """The highest point of any ground face [m], local frame (-inf: none): from under it, ground
+        """The highest point of any ground face [m], local frame (-inf: none): from above it, ground
         can be seen only below the horizon (a ray that misses everything below it is ground too)."""
-        if self._ground_top_z is None:
-            ground = self.scene.triangles[self.scene.layer == GROUND]
-            self._ground_top_z = float(self.scene.vertices[ground][..., 2].max()) if len(ground) else -np.inf
-        return self._ground_top_z
+        return self._top(GROUND)
+
+    @property
+    def landscape_top_z(self) -> float:
+        """The highest point of any landscape face [m], local frame (-inf: none): from above it,
+        landscape can be seen only below the horizon."""
+        return self._top(LANDSCAPE)
 
     def layer_of(self, face: np.ndarray) -> np.ndarray:
         """Layer code of each face index (-1 where face is -1)."""

@@ -15,7 +15,8 @@ beside it (:meth:`~en17037cli.criteria.view.cells.Cells.sample_probes`).
 cell by the share of its samples), its exact mode error estimate (half the solid angle of the mixed
 cells holding the layer) and its **interval** [lo, hi]: lo the cells wholly of the layer, hi plus
 every mixed cell that can hold it (one with a sample of it, or whose directions the layer can
-take: sky only at or above the horizon, a ground below the eye only below it). Refinement only
+take: sky only at or above the horizon, ground or landscape that lie wholly below the eye only
+below it). Refinement only
 ever splits a mixed cell into children inside it, so the interval of a coarser level contains the
 estimate and the interval of every finer one. :meth:`Integration.advance` splits the mixed cells
 of the points the caller names and makes the rest final; which points go on is the caller's
@@ -46,6 +47,8 @@ from en17037cli.project.settings import ViewSettings
 
 #: Sample classes that are layers, with their report keys.
 LAYER_CODES = (("sky", SKY), ("landscape", LANDSCAPE_HIT), ("ground", GROUND_HIT))
+#: The class of a pure cell from its kinds (a single bit): log2, and 4 (no class) for 0.
+_CLASS_OF_KINDS = np.array([4 if k == 0 else k.bit_length() - 1 for k in range(256)], dtype=np.int64)
 #: A direction this close to the horizontal (the z of its unnormalised vector, [-]) may be classed
 #: either side of it by the float32 ray tracer: both sky and ground stay possible there.
 HORIZON_SLACK = 1e-6
@@ -101,8 +104,9 @@ class Integration:
         self.dist_p: list = []
         P = self.P = patches(rg, points, np.radians(settings.angular_resolution_deg))
         self.sample = Sampler(view_rays, rg, points, P, self.with_dist, parallel)
-        # the layers a direction can take: ground faces above the eye can be seen upwards
+        # the layers a direction can take: ground or landscape faces above the eye can be seen upwards
         self.ground_up = points[:, 2] <= view_rays.ground_top_z + HORIZON_SLACK
+        self.landscape_up = points[:, 2] <= view_rays.landscape_top_z + HORIZON_SLACK
         self.zdir = (rg.frame_array("u")[:, 2], rg.frame_array("v")[:, 2], rg.frame_array("n")[:, 2])
         self.cells = base_cells(self.sample, P) if len(P.pt) else None
         self._classify()
@@ -135,8 +139,8 @@ class Integration:
                 able |= z[1] >= -HORIZON_SLACK
             elif key == "ground":  # ground below it (or anywhere, from under a ground face's top)
                 able |= (z[0] <= HORIZON_SLACK) | self.ground_up[self._pi[mi]]
-            else:
-                able[:] = True
+            else:  # landscape likewise: from above every landscape face only below the horizon
+                able |= (z[0] <= HORIZON_SLACK) | self.landscape_up[self._pi[mi]]
             self._possible[key] = able
 
     def _direction_z(self, sel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -160,17 +164,26 @@ class Integration:
         self.acc["glazing"] += np.bincount(fp, fw, p)
         self.final_cells += np.bincount(fp, minlength=p)
         mixed = self._mixed[sel]
-        at = np.full(len(c.w), -1, np.int64)
-        at[self._mi] = np.arange(len(self._mi))
-        ms = at[sel[mixed]]  # the mixed ones among them, as indices into the mixed cells
-        mp, mw = fp[mixed], fw[mixed]
+        # pure cells: all of a cell's weight to its one class (one bincount over point x class)
+        pure = ~mixed
+        if pure.any():
+            by_class = np.bincount(fp[pure] * 8 + _CLASS_OF_KINDS[self._kinds[sel[pure]]], fw[pure], 8 * p).reshape(p, 8)
+            for key, code in LAYER_CODES:
+                for acc in (key, "lo_" + key, "hi_" + key):
+                    self.acc[acc] += by_class[:, code]
+        if mixed.any():  # mixed cells: the share of their samples, the error estimate, the interval's upper end
+            at = np.full(len(c.w), -1, np.int64)
+            at[self._mi] = np.arange(len(self._mi))
+            msel = sel[mixed]
+            ms = at[msel]  # as indices into the mixed cells
+            mp, mw, mk = fp[mixed], fw[mixed], self._kinds[msel]
+            for key, code in LAYER_CODES:
+                self.acc[key] += np.bincount(mp, mw * self._share[key][msel], p)
+                self.acc["hi_" + key] += np.bincount(mp, mw * self._possible[key][ms], p)
+                self.acc["err_" + key] += np.bincount(mp, 0.5 * mw * ((mk >> code) & 1), p)
+        corners = self._corners[sel]
         for key, code in LAYER_CODES:
-            self.acc[key] += np.bincount(fp, fw * self._share[key][sel], p)
-            pure = ~mixed & (self._kinds[sel] == (1 << code))
-            self.acc["lo_" + key] += np.bincount(fp[pure], fw[pure], p)
-            self.acc["hi_" + key] += np.bincount(fp[pure], fw[pure], p) + np.bincount(mp, mw * self._possible[key][ms], p)
-            self.acc["err_" + key] += np.bincount(mp, 0.5 * mw * ((self._kinds[sel][mixed] >> code) & 1), p)
-            self.seen[key] |= np.bincount(fp, (self._corners[sel] >> code) & 1, p) > 0
+            self.seen[key] |= np.bincount(fp, (corners >> code) & 1, p) > 0
         if self.with_dist:  # each valid sample of a final cell carries an equal share of its weight
             nv_all = np.maximum(c.valid_counts(), 1)
             cl = c.cls[:, sel].T  # (cells, samples), in the cells' order

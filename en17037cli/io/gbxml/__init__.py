@@ -305,18 +305,19 @@ def _spaces(doc: Document, floors, bodies, verdict) -> tuple[list[Space], list[s
         fp = floors[i]
         # a Name shared by several spaces: the room is "Name (id)" (room_name's 'LongName (Name)')
         name, long_name = (s.id, s.name) if seen[s.name] > 1 else (s.name, "")
+        usage = (("Name", s.name),) + ((("gbXML spaceType", s.space_type),) if s.space_type else ())
         if fp is None:  # kept, with its problem: a space with windows and no floor is never silently gone
             no_floor.append(s.name)
             out.append(Space(id=s.id, name=name, long_name=long_name, storey=doc.storeys.get(s.storey, ""),
                              footprint=np.zeros((0, 2)), floor_z=0.0, top_z=0.0, windows=tuple(sorted(hints.get(i, ()))),
                              zones=tuple(z for z in (doc.zones.get(s.zone),) if z), kind=SPACE_KIND, body=bodies[i],
-                             problem="no floor in its ShellGeometry, PlanarGeometry or floor surfaces"))
+                             problem="no floor in its ShellGeometry, PlanarGeometry or floor surfaces", usage=usage))
             continue
         ring, holes, z0, z1 = fp
         out.append(Space(id=s.id, name=name, long_name=long_name, storey=doc.storeys.get(s.storey, ""), footprint=ring,
                          floor_z=z0, top_z=z1, windows=tuple(sorted(hints.get(i, ()))),
                          zones=tuple(z for z in (doc.zones.get(s.zone),) if z), holes=holes, kind=SPACE_KIND,
-                         body=bodies[i]))  # the closed shell is the volume: windows match it
+                         body=bodies[i], usage=usage))  # the closed shell is the volume: windows match it
     return out, no_floor
 
 

@@ -90,6 +90,7 @@ class SpaceRecord:
     shell: list[np.ndarray]  # ShellGeometry ClosedShell loops [m]
     planar: list[np.ndarray]  # the Space's own PlanarGeometry loops [m]
     area_m2: float | None = None  # the Space's Area as the file gives it, in m² (None: not given or no areaUnit)
+    space_type: str = ""  # the Space's spaceType attribute (spaceTypeEnum, a load category: OfficeEnclosed...)
 
 
 @dataclass
@@ -235,7 +236,8 @@ def _space(el, scale: float, area_scale: float | None = None) -> SpaceRecord:
     return SpaceRecord(id=el.get("id", ""), name=_text(el, "Name") or el.get("id", ""),
                        storey=el.get("buildingStoreyIdRef", ""), zone=el.get("zoneIdRef", ""), shell=shell,
                        planar=_loops(pg, scale) if pg is not None else [],
-                       area_m2=None if area is None or area_scale is None or area <= 0 else area * area_scale)
+                       area_m2=None if area is None or area_scale is None or area <= 0 else area * area_scale,
+                       space_type=el.get("spaceType", ""))
 
 
 def _surface(el, scale: float) -> Surface:
