@@ -412,8 +412,11 @@ def test_an_output_folder_that_cannot_be_written(tmp_path, kind):
 
 
 def _spawn_check(path: Path, out: Path):
+    # SIGINT back to its default in the child: a shell's background job (``make test &``) starts
+    # with it ignored, and Python then installs no KeyboardInterrupt for it, as a user would expect
     return subprocess.Popen([sys.executable, "-m", "en17037cli", "check", str(path), "--out", str(out), "-q"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 #: A stopped run must be gone this long after its signal [s]: within a second on a quiet machine
