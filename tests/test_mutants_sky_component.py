@@ -1,0 +1,267 @@
+"""Mutation tests (issue 46): the exact sky component (``criteria/daylight/sky_component.py``) on
+scenes small enough to answer by hand or by a brute-force sum.
+
+The reference is a midpoint sum of the CIE overcast luminance over the pane (cos θ cos_pane / r² dA,
+one point at a time, no cells, no rays), as in ``tests/reference/test_sky_component_reference.py``;
+300 x 210 pieces over a 2 x 1.4 m pane err by O(h²), under 1e-5 of the value at these points (the
+reference's own measurement: 1.5e-6 at 400 x 300), added to the engine's bound as a tolerance.
+What a tolerance setting must do is asserted on the engine's own results (a tolerance its unrefined
+bound already meets refines nothing; a tighter one is met), never against stored numbers.
+"""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from en17037cli.criteria.daylight.sky import cie_overcast_luminance, glass_transmittance
+from en17037cli.criteria.daylight.sky_component import SC_PER_SR, SkyTolerance, sky_component
+from en17037cli.criteria.view.frames import RoomGeometry, window_frame
+from en17037cli.criteria.view.rays import ViewRays
+from en17037cli.raytrace import RayEngine
+from en17037cli.scene.model import GROUND, INTERIOR, LANDSCAPE, WINDOW, Window
+
+#: The midpoint reference's relative error (O(h²), 300 x 210 pieces: under 1e-5 measured at 400 x 300).
+MIDPOINT_REL = 2e-5
+
+
+def _quad_y(y, x0, x1, z0, z1):
+    return [(x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1)]
+
+
+def _engine(polys: dict, layers: dict, normal=(0.0, -1.0, 0.0)):
+    """Ray engine, view rays and room geometry of named quads (``glazing`` the one window, facing
+    ``normal``); ``layers`` gives each other name's layer (INTERIOR: blocks; GROUND: ground)."""
+    tris, layer = [], []
+    for name, quads in polys.items():
+        for q in quads:
+            q = np.asarray(q, float)
+            for k in range(1, len(q) - 1):
+                tris.append([q[0], q[k], q[k + 1]])
+                layer.append(WINDOW if name == "glazing" else layers[name])
+    tris, layer = np.array(tris), np.array(layer)
+    win = np.flatnonzero(layer == WINDOW)
+    engine = RayEngine(tris.reshape(-1, 3), np.arange(3 * len(tris)).reshape(-1, 3),
+                       {"opaque": layer != WINDOW, "win": win})
+    w = Window("glazing", 0, win, tris[win], np.asarray(normal, float), 0.0)
+    wof = np.full(len(tris), -1)
+    wof[win] = 0
+    rg = RoomGeometry([window_frame(w, 0)], wof, tris[win], np.zeros(len(win), int), "win")
+    return engine, ViewRays(engine, SimpleNamespace(layer=layer)), rg
+
+
+def _midpoint(points, corner, edge_u, edge_v, tv, nu=300, nv=210, facade=None):
+    """Sky component [-] of ``points`` through the pane corner + s edge_u + t edge_v: the midpoint sum
+    of ℓ(γ) sin γ τ(i) cos_pane / r² dA over nu x nv pieces, over 7 π / 9; with ``facade`` = (y, x0,
+    x1, top), the directions that meet the facade x0 <= x <= x1, z <= top in the plane y left out."""
+    s, t = (np.arange(nu) + 0.5) / nu, (np.arange(nv) + 0.5) / nv
+    S, T = np.meshgrid(s, t, indexing="ij")
+    X = corner + S[..., None] * edge_u + T[..., None] * edge_v
+    normal = np.cross(edge_u, edge_v)
+    area = np.linalg.norm(normal) / (nu * nv)
+    normal /= np.linalg.norm(normal)
+    out = []
+    for p in np.asarray(points, float):  # one point at a time
+        r = X - p
+        dist = np.linalg.norm(r, axis=-1)
+        d = r / dist[..., None]
+        cos_pane = np.abs(d @ normal)
+        up = np.maximum(d[..., 2], 0.0)
+        f = cie_overcast_luminance(np.arcsin(up)) * up * glass_transmittance(cos_pane, tv) * cos_pane / dist**2
+        if facade is not None:
+            y, x0, x1, top = facade
+            t = (y - p[1]) / r[..., 1]
+            hx, hz = p[0] + t * r[..., 0], p[2] + t * r[..., 2]
+            f = np.where((hx >= x0) & (hx <= x1) & (hz <= top), 0.0, f)
+        out.append(float(f.sum() * area / (7.0 * np.pi / 9.0)))
+    return np.array(out)
+
+
+#: A 2 x 1.4 m south pane (x in [-1, 1], z in [0.8, 2.2], in the plane y = 0, facing -y), the ground
+#: outside it and a facade 6 m high 10 m away, which block: the cells across the facade's top are mixed.
+PANE = {"glazing": [_quad_y(0.0, -1.0, 1.0, 0.8, 2.2)],
+        "ground": [[(-200.0, -200.0, 0.0), (200.0, -200.0, 0.0), (200.0, 0.0, 0.0), (-200.0, 0.0, 0.0)]]}
+STREET = dict(PANE, facade=[_quad_y(-10.0, -50.0, 50.0, 0.0, 6.0)])
+FACADE = (-10.0, -50.0, 50.0, 6.0)
+PANE_REF = (np.array([-1.0, 0.0, 0.8]), np.array([2.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.4]))
+POINTS = np.array([[0.0, 1.0, 0.85], [1.5, 3.0, 0.85], [-0.5, 1.5, 1.2]])
+
+
+def test_a_point_that_sees_no_window_has_no_sky_component():
+    # a point outside, in front of the pane: no patch, nothing integrated; the bins (if asked) all zero
+    engine, vr, rg = _engine(PANE, {"ground": INTERIOR})
+    sc = sky_component(vr, rg, np.array([[0.0, -1.0, 1.0], [0.3, -2.0, 1.5]]), np.array([0.7]),
+                       bins=lambda d: np.zeros(len(d), int), nbins=3)
+    assert sc.value.tolist() == [0.0, 0.0] and sc.bound.tolist() == [0.0, 0.0]
+    assert sc.cells.tolist() == [0, 0] and sc.cells.dtype.kind == "i"
+    assert sc.patches.tolist() == [[0.0] * 3] * 2
+    plain = sky_component(vr, rg, np.array([[0.0, -1.0, 1.0]]), np.array([0.7]))
+    assert plain.patches is None and plain.cells.dtype.kind == "i"
+    engine.close()
+
+
+def test_unrefined_cells_lie_within_their_bound_of_the_brute_force():
+    # refine_levels 0: the base cells alone, each weighed by the Gauss rule; the mixed ones across the
+    # horizon bounded by max(share, 1 - share) of their integral
+    engine, vr, rg = _engine(STREET, {"ground": INTERIOR, "facade": INTERIOR})
+    ref = _midpoint(POINTS, *PANE_REF, 0.7, facade=FACADE)
+    sc = sky_component(vr, rg, POINTS, np.array([0.7]), SkyTolerance(refine_levels=0))
+    assert np.all(sc.value > 0.0) and np.all(sc.bound > 0.0)
+    assert np.all(np.abs(sc.value - ref) <= sc.bound + MIDPOINT_REL * ref), np.column_stack([sc.value, ref, sc.bound])
+    engine.close()
+
+
+def test_a_tolerance_the_base_cells_meet_refines_nothing_and_a_tighter_one_is_met():
+    engine, vr, rg = _engine(STREET, {"ground": INTERIOR, "facade": INTERIOR})
+    ref = _midpoint(POINTS, *PANE_REF, 1.0, facade=FACADE)
+    base = sky_component(vr, rg, POINTS, np.array([1.0]), SkyTolerance(refine_levels=0))
+    for k, p in enumerate(POINTS):
+        one = np.stack([p, [0.0, -1.0, 1.0]])  # and a point outside that sees no window, last
+        # an absolute tolerance twice the unrefined bound: nothing is split, the same cells and numbers
+        loose = sky_component(vr, rg, one, np.array([1.0]),
+                              SkyTolerance(refine_levels=8, rel_tolerance=0.0, abs_tolerance=2.0 * base.bound[k]))
+        assert loose.cells[0] == base.cells[k]
+        assert loose.value[0] == pytest.approx(base.value[k], rel=1e-12)
+        assert loose.bound[0] == pytest.approx(base.bound[k], rel=1e-12)
+        # a quarter of it: the bound is brought within it (to 1 %: the cells that stay are chosen by their
+        # midpoint weight, then weighed by the Gauss rule, which differs by O(h²): 2e-5 over, measured),
+        # and the value within the bound of the brute force
+        tight = sky_component(vr, rg, one, np.array([1.0]),
+                              SkyTolerance(refine_levels=8, rel_tolerance=0.0, abs_tolerance=0.25 * base.bound[k]))
+        assert tight.cells[0] > base.cells[k]
+        assert tight.bound[0] <= 1.01 * 0.25 * base.bound[k]
+        assert abs(tight.value[0] - ref[k]) <= tight.bound[0] + MIDPOINT_REL * ref[k]
+        # the relative tolerance alone does the same
+        rel = 0.25 * base.bound[k] / ref[k]
+        by_rel = sky_component(vr, rg, one, np.array([1.0]), SkyTolerance(refine_levels=8, rel_tolerance=rel, abs_tolerance=0.0))
+        assert by_rel.bound[0] <= 1.01 * rel * by_rel.value[0]
+        assert by_rel.cells[0] > base.cells[k]
+        for r in (loose, tight, by_rel):
+            assert r.value[1] == 0.0 and r.bound[1] == 0.0 and r.cells[1] == 0
+    engine.close()
+
+
+def test_a_small_roof_light_seen_as_one_cell():
+    # a 0.2 x 0.2 m roof light 3 m above the point, 3.8 deg across, at a 10 deg resolution: one base cell,
+    # all sky and a whole rectangle, weighed by the Gauss rule at once
+    h, a = 3.0, 0.1
+    polys = {"glazing": [[(-a, -a, h), (a, -a, h), (a, a, h), (-a, a, h)]]}
+    engine, vr, rg = _engine(polys, {}, normal=(0.0, 0.0, 1.0))
+    sc = sky_component(vr, rg, np.zeros((1, 3)), np.array([1.0]), SkyTolerance(resolution_deg=10.0))
+    want = _midpoint(np.zeros((1, 3)), np.array([-a, -a, h]), np.array([2 * a, 0.0, 0.0]), np.array([0.0, 2 * a, 0.0]), 1.0)
+    assert sc.cells.tolist() == [1]
+    # ∫ ℓ cos θ dω over the light: ≈ (1 + 2) / 3 x 1 x 0.04 / 9 sr x 9 / (7 π) = 0.04 / (7 π) (on axis)
+    assert want[0] == pytest.approx(0.04 / (7 * np.pi), rel=0.01)
+    assert abs(sc.value[0] - want[0]) <= sc.bound[0] + MIDPOINT_REL * want[0]
+    engine.close()
+
+
+def test_a_point_above_the_pane_sees_no_sky_and_has_no_bound():
+    # from 3 m up, every direction through the pane (top at 2.2 m) points down: a plate outside is seen
+    # across the ground, the cells on its outline mixed of ground and obstruction, none with sky in it
+    polys = dict(PANE, plate=[_quad_y(-3.0, -0.3, 5.0, 0.0, 1.0)])
+    engine, vr, rg = _engine(polys, {"ground": GROUND, "plate": INTERIOR})
+    sc = sky_component(vr, rg, np.array([[0.0, 2.0, 3.0]]), np.array([0.7]), SkyTolerance(resolution_deg=2.0))
+    assert sc.value.tolist() == [0.0] and sc.bound.tolist() == [0.0] and sc.cells[0] > 0
+    engine.close()
+
+
+def test_sky_component_per_steradian_constant():
+    # the unobstructed horizontal illuminance of the CIE overcast sky is 7 π / 9 times its zenith luminance
+    assert SC_PER_SR == pytest.approx(9.0 / (7.0 * np.pi), rel=1e-15)
+
+
+# --- one cell, worked by hand -----------------------------------------------------------------------
+#: A 0.2 x 0.2 m roof light 3 m above the origin, 3.8 deg across: one base cell at a 10 deg resolution.
+#: An opaque square 1 m above it, outside its frame depth, hides the direction of one corner of the
+#: cell (x, y >= 0.12 at z = 4: the corner (0.1, 0.1, 3) is seen at (0.133, 0.133, 4)) and not the
+#: three others: a mixed cell whose samples say 3/4 sky.
+ROOF = {"glazing": [[(-0.1, -0.1, 3.0), (0.1, -0.1, 3.0), (0.1, 0.1, 3.0), (-0.1, 0.1, 3.0)]],
+        "bar": [[(0.12, 0.12, 4.0), (0.2, 0.12, 4.0), (0.2, 0.2, 4.0), (0.12, 0.2, 4.0)]]}
+
+
+def _one_cell(rg):
+    """The one cell's integral and error estimate (the module's Gauss rule, tested on its own against a
+    dense midpoint rule) and the cell's unit-radiance integral ∫ cos θ dω by a brute-force sum."""
+    from en17037cli.criteria.daylight.sky_component import cell_integrals
+
+    t = np.arctan(0.1 / 3.0)
+    f = rg.frames[0]
+    axes = np.stack([f.u, f.v, f.n])[None]
+    value, qerr = cell_integrals(axes, np.array([1.0]), np.array([[-t, t, -t, t]]))
+    n = 400
+    s = (np.arange(n) + 0.5) / n * 0.2 - 0.1
+    X, Y = np.meshgrid(s, s, indexing="ij")
+    r2 = X * X + Y * Y + 9.0
+    unit = float((3.0 / np.sqrt(r2) * 3.0 / np.sqrt(r2) / r2).sum() * (0.2 / n) ** 2)  # cos θ cos_pane / r² dA
+    return value[0], qerr[0], unit
+
+
+def test_a_mixed_cell_weighs_its_sky_share_and_is_bounded_by_the_larger_part():
+    engine, vr, rg = _engine(ROOF, {"bar": INTERIOR}, normal=(0.0, 0.0, 1.0))
+    f, qerr, unit = _one_cell(rg)
+    two = np.zeros((2, 3))
+    # by the sign of x: the Gauss nodes of the middle column (x = 0) in bin 0, the two sides in 1 and 2
+    bins = lambda d: np.where(d[:, 0] > 1e-9, 1, np.where(d[:, 0] < -1e-9, 2, 0))  # noqa: E731
+    for tol in (SkyTolerance(resolution_deg=10.0, refine_levels=0),
+                SkyTolerance(resolution_deg=10.0, refine_levels=8, abs_tolerance=1.0)):  # split, but within budget
+        sc = sky_component(vr, rg, two, np.array([1.0]), tol, bins=bins, nbins=3)
+        assert sc.cells.tolist() == [1, 1]
+        # value: share f; bound: max(share, 1 - share) f + share x the Gauss rule's error estimate
+        assert sc.value == pytest.approx([0.75 * f * SC_PER_SR] * 2, rel=1e-12)
+        assert sc.bound == pytest.approx([(0.75 * f + 0.75 * qerr) * SC_PER_SR] * 2, rel=1e-12)
+        # the bins: share x the unit-radiance integral; the sides alike (the cell is symmetric), the middle
+        # column with the Gauss weight 8/9 of 2 (to 1e-3: the integrand varies by that across 3.8 deg)
+        assert sc.patches.sum(axis=1) == pytest.approx([0.75 * unit] * 2, rel=1e-4)
+        assert sc.patches[:, 1] == pytest.approx(sc.patches[:, 2], rel=1e-9)
+        assert sc.patches[:, 0] == pytest.approx([0.75 * unit * 8 / 18] * 2, rel=1e-3)
+    engine.close()
+
+
+def test_with_no_tolerance_the_mixed_cell_is_split_to_the_last_level():
+    engine, vr, rg = _engine(ROOF, {"bar": INTERIOR}, normal=(0.0, 0.0, 1.0))
+    _, _, unit = _one_cell(rg)
+    two = np.zeros((2, 3))
+    bins = lambda d: np.zeros(len(d), int)  # noqa: E731
+    want = _midpoint(two[:1], np.array([-0.1, -0.1, 3.0]), np.array([0.2, 0.0, 0.0]), np.array([0.0, 0.2, 0.0]), 1.0,
+                     nu=400, nv=400)[0]
+    hidden = _midpoint(two[:1], np.array([0.09, 0.09, 3.0]), np.array([0.01, 0.0, 0.0]), np.array([0.0, 0.01, 0.0]), 1.0,
+                       nu=40, nv=40)[0]  # the corner (0.09, 0.1]² the square hides (x, y >= 0.12 x 3 / 4)
+    for levels in (1, 3):
+        sc = sky_component(vr, rg, two, np.array([1.0]), SkyTolerance(resolution_deg=10.0, refine_levels=levels,
+                                                                     rel_tolerance=0.0, abs_tolerance=0.0), bins=bins, nbins=1)
+        # every level splits the cells the square's outline crosses (the cell's corner): 1 + 3 per level
+        assert sc.cells.tolist() == [1 + 3 * levels] * 2
+        assert np.all(np.abs(sc.value - (want - hidden)) <= sc.bound + MIDPOINT_REL * want)
+        assert sc.patches[:, 0] == pytest.approx(unit * sc.value / want, rel=1e-3)
+    engine.close()
+
+
+def test_an_all_sky_whole_cell_is_never_split():
+    # the roof light without the square: one cell, all sky, a whole rectangle: final at level 0 whatever
+    # the tolerance, its Gauss value and error estimate
+    polys = {"glazing": ROOF["glazing"]}
+    engine, vr, rg = _engine(polys, {}, normal=(0.0, 0.0, 1.0))
+    f, qerr, _ = _one_cell(rg)
+    sc = sky_component(vr, rg, np.zeros((1, 3)), np.array([1.0]),
+                       SkyTolerance(resolution_deg=10.0, refine_levels=3, rel_tolerance=0.0, abs_tolerance=0.0))
+    assert sc.cells.tolist() == [1]
+    assert sc.value[0] == pytest.approx(f * SC_PER_SR, rel=1e-12)
+    assert sc.bound[0] == pytest.approx(qerr * SC_PER_SR, rel=1e-12)
+    engine.close()
+
+
+def test_cells_with_no_sky_are_never_split():
+    # a landscape wall 5 m out fills the pane's whole view, a plate 3 m out stands in front of it: the
+    # cells on the plate's outline are mixed (obstruction and landscape, above the horizon) but hold no
+    # sky: nothing to integrate, nothing to bound, nothing split
+    polys = dict(PANE, plate=[_quad_y(-3.0, -0.5, 0.5, 0.0, 3.0)], hill=[_quad_y(-5.0, -100.0, 100.0, 0.0, 100.0)])
+    engine, vr, rg = _engine(polys, {"ground": INTERIOR, "plate": INTERIOR, "hill": LANDSCAPE})
+    pts = np.array([[0.0, 1.0, 1.5], [0.3, 2.0, 1.2]])
+    base = sky_component(vr, rg, pts, np.array([0.7]), SkyTolerance(refine_levels=0))
+    sc = sky_component(vr, rg, pts, np.array([0.7]), SkyTolerance(refine_levels=3, rel_tolerance=0.0, abs_tolerance=0.0))
+    for r in (base, sc):
+        assert r.value.tolist() == [0.0, 0.0] and r.bound.tolist() == [0.0, 0.0]
+    assert sc.cells.tolist() == base.cells.tolist()
+    engine.close()

@@ -1,0 +1,2 @@
+"""Mutation tests (docs/mutation.md): placeholder, filled below."""
+from __future__ import annotations
