@@ -24,6 +24,7 @@ from en17037cli.report.markdown import (
     dwellings_markdown,
     parameter_lines,
     share_table,
+    solid_angle_words,
     verdict_rows,
     window_rows,
 )
@@ -138,7 +139,7 @@ def _room(room: dict, figures, n0: int) -> list[str]:
         ee = v["error_estimates"]
         H += [f"<h3>View out: {escape(v['level'])} {_status(STATUS_LABEL[v['status']])}</h3>",
               f"<p>Required: {escape(v['required'])}. What limits it: {escape(limit_text('view', v))}.</p>",
-              f'<p class="small">Error estimates: solid angles {fmt_bound(ee["max_solid_angle_error_sr"])} sr, sight angle '
+              f'<p class="small">Error estimates: {escape(solid_angle_words(ee))}, sight angle '
               f'{fmt_bound(ee["max_horizontal_sight_angle_error_deg"])}°, outside distance {fmt_bound(ee["max_outside_distance_error_m"])} m. '
               "Points ringed on the maps lie within their error estimate of a threshold. The printed report shows each eye "
               "height's level map and the map of what limits it; every point's values are in view_points.csv.</p>"]

@@ -161,6 +161,16 @@ def window_rows(room: dict) -> list[list[str]]:
     return rows
 
 
+def solid_angle_words(ee: dict) -> str:
+    """The view's solid angles' error as the reports print it: the estimate, and with ``view.refine:
+    decided`` the widest interval and the tolerance it was refined to (docs/method.md)."""
+    words = f"solid angles {fmt_bound(ee['max_solid_angle_error_sr'])} sr"
+    if ee.get("refine") == "decided" and ee.get("max_solid_angle_interval_sr") is not None:
+        words += (f" (computed as finely as the levels and view.tolerance {ee['tolerance']:g} need: every interval at most "
+                  f"{ee['max_solid_angle_interval_sr']} sr wide)")
+    return words
+
+
 class Markup(str):
     """A table cell that is Markdown already (not escaped by :func:`_md_table`)."""
 
@@ -200,7 +210,7 @@ def report_markdown(report: dict, figures=()) -> str:
             ee = v["error_estimates"]
             L += [f"**View out: {v['level']}** (required {v['required']}, {STATUS_LABEL[v['status']]}); "
                   f"{md(limit_text('view', v))}.", "",
-                  f"Error estimates: solid angles {fmt_bound(ee['max_solid_angle_error_sr'])} sr, sight angle "
+                  f"Error estimates: {solid_angle_words(ee)}, sight angle "
                   f"{fmt_bound(ee['max_horizontal_sight_angle_error_deg'])} deg, outside distance "
                   f"{fmt_bound(ee['max_outside_distance_error_m'])} m."]
             for e in v["eye_heights"]:
