@@ -47,6 +47,8 @@ from en17037cli.project.settings import ViewSettings
 
 #: Sample classes that are layers, with their report keys.
 LAYER_CODES = (("sky", SKY), ("landscape", LANDSCAPE_HIT), ("ground", GROUND_HIT))
+#: The class of a pure cell from its kinds (a single bit): log2, and 4 (no class) for 0.
+_CLASS_OF_KINDS = np.array([4 if k == 0 else k.bit_length() - 1 for k in range(256)], dtype=np.int64)
 #: A direction this close to the horizontal (the z of its unnormalised vector, [-]) may be classed
 #: either side of it by the float32 ray tracer: both sky and ground stay possible there.
 HORIZON_SLACK = 1e-6
@@ -162,17 +164,26 @@ class Integration:
         self.acc["glazing"] += np.bincount(fp, fw, p)
         self.final_cells += np.bincount(fp, minlength=p)
         mixed = self._mixed[sel]
-        at = np.full(len(c.w), -1, np.int64)
-        at[self._mi] = np.arange(len(self._mi))
-        ms = at[sel[mixed]]  # the mixed ones among them, as indices into the mixed cells
-        mp, mw = fp[mixed], fw[mixed]
+        # pure cells: all of a cell's weight to its one class (one bincount over point x class)
+        pure = ~mixed
+        if pure.any():
+            by_class = np.bincount(fp[pure] * 8 + _CLASS_OF_KINDS[self._kinds[sel[pure]]], fw[pure], 8 * p).reshape(p, 8)
+            for key, code in LAYER_CODES:
+                for acc in (key, "lo_" + key, "hi_" + key):
+                    self.acc[acc] += by_class[:, code]
+        if mixed.any():  # mixed cells: the share of their samples, the error estimate, the interval's upper end
+            at = np.full(len(c.w), -1, np.int64)
+            at[self._mi] = np.arange(len(self._mi))
+            msel = sel[mixed]
+            ms = at[msel]  # as indices into the mixed cells
+            mp, mw, mk = fp[mixed], fw[mixed], self._kinds[msel]
+            for key, code in LAYER_CODES:
+                self.acc[key] += np.bincount(mp, mw * self._share[key][msel], p)
+                self.acc["hi_" + key] += np.bincount(mp, mw * self._possible[key][ms], p)
+                self.acc["err_" + key] += np.bincount(mp, 0.5 * mw * ((mk >> code) & 1), p)
+        corners = self._corners[sel]
         for key, code in LAYER_CODES:
-            self.acc[key] += np.bincount(fp, fw * self._share[key][sel], p)
-            pure = ~mixed & (self._kinds[sel] == (1 << code))
-            self.acc["lo_" + key] += np.bincount(fp[pure], fw[pure], p)
-            self.acc["hi_" + key] += np.bincount(fp[pure], fw[pure], p) + np.bincount(mp, mw * self._possible[key][ms], p)
-            self.acc["err_" + key] += np.bincount(mp, 0.5 * mw * ((self._kinds[sel][mixed] >> code) & 1), p)
-            self.seen[key] |= np.bincount(fp, (self._corners[sel] >> code) & 1, p) > 0
+            self.seen[key] |= np.bincount(fp, (corners >> code) & 1, p) > 0
         if self.with_dist:  # each valid sample of a final cell carries an equal share of its weight
             nv_all = np.maximum(c.valid_counts(), 1)
             cl = c.cls[:, sel].T  # (cells, samples), in the cells' order
