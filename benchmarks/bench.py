@@ -10,8 +10,10 @@ Speed is measured here, never in a timed test. Sections:
 3. **Large context**: the same for the synthetic room inside a generated city of about 1 million
    triangles read from a binary PLY file.
 4. **Scaling**: view time against triangles, viewpoints and angular resolution.
-5. **Pictures**: what the pictures of the client report add to ``en17037 check`` on the seed
-   office (whole process, imports included): the median of 5 runs with and without ``--no-plots``.
+5. **Pictures**: the CPU time of each picture of the seed office's report by kind and per room
+   (:mod:`bench_pictures`; ``python benchmarks/bench_pictures.py --against REV`` for before and
+   after), and what the pictures add to ``en17037 check`` on the seed office (whole process,
+   imports included): the median of 5 runs with and without ``--no-plots``.
 6. **Sensitivity**: ``en17037 study sensitivity`` on the seed office, its cost as a multiple of
    the check with the project's own settings (target: under 5 x).
 7. **City context**: reading a generated 10,000-building CityJSON tile (3D BAG-like, LoD 2.2;
@@ -240,7 +242,7 @@ def painters_scaling(n_rooms: int = 36) -> list:
     """Wall time [s] of drawing every picture of the first ``n_rooms`` rooms of the generated block
     with 1 and with 2 drawing processes (:class:`~en17037cli.report.figures.Painters`), the
     rays traced once beforehand; the first process has warmed up, a second one starts (and imports
-    matplotlib) within the time, as in a run. The figures are checked to be the same bytes."""
+    Pillow and loads its font) within the time, as in a run. The figures are checked to be the same bytes."""
     from en17037cli.pipeline import run
     from en17037cli.project import load_project
     from en17037cli.report.figures import Painters, figure_jobs
@@ -593,6 +595,11 @@ def main(argv=None) -> int:
         _table("View time against angular resolution (seed office, 0.5 m grid)", sc["resolution"],
                ["angular_resolution_deg", "view_s", "rays"])
     if "pictures" in args.only:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from bench_pictures import pictures_cpu, print_pictures
+
+        result["picture_cpu"] = pictures_cpu()
+        print_pictures(result["picture_cpu"], _table)
         result["pictures"] = pictures_cost()
         _table("Pictures of the client report: check with and without --no-plots, median of 5 [s]", [result["pictures"]],
                ["project", "with_pictures_s", "without_pictures_s", "added_s", "pictures_stage_s", "figures_stage_s"])

@@ -13,6 +13,7 @@ from en17037cli.commands.check import check
 from en17037cli.commands.compare import compare
 from en17037cli.commands.errors import Group
 from en17037cli.commands.schema import schema
+from en17037cli.commands.screen import screen
 from en17037cli.commands.study import study
 from en17037cli.commands.validate import validate
 from en17037cli.version import __version__
@@ -24,7 +25,7 @@ def cli():
     """Check EN 17037 daylight provision (5.1), view out (5.2), exposure to sunlight (5.3) and protection from glare (5.4) on a 3D model."""
 
 
-for _command in (check, validate, study, batch, compare, schema):
+for _command in (check, validate, study, batch, screen, compare, schema):
     cli.add_command(_command)
 
 

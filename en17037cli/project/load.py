@@ -192,7 +192,7 @@ def _settings(path: Path, config: dict) -> Project:
     directory = path.resolve().parent
     requirements = Requirements(**config["requirements"])
     rooms = []
-    for i, room in enumerate(config["rooms"]):
+    for i, room in enumerate(config.get("rooms", [])):
         vp = room.get("view_points")
         if isinstance(vp, str):
             vp = [vp]
@@ -226,7 +226,7 @@ def _settings(path: Path, config: dict) -> Project:
 
 def _check_consistency(path: Path, config: dict) -> None:
     """Rules a JSON Schema cannot express; each raises a one-line :class:`InputError`."""
-    for i, r in enumerate(config["rooms"]):
+    for i, r in enumerate(config.get("rooms", [])):
         clash = [k for k in ("name", "floor", "inside", "view_points", "sun_points") if k in r] if "auto" in r else []
         if clash:
             raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with auto (one entry stands for every room the walls "
@@ -238,7 +238,7 @@ def _check_consistency(path: Path, config: dict) -> None:
             if clash:
                 raise InputError(f"{path}: rooms[{i}].{clash[0]}: not with {key} (one entry stands for every matched "
                                  "space, which gives its name and floor); write the room out instead")
-    names = [r["name"] for r in config["rooms"] if "name" in r]
+    names = [r["name"] for r in config.get("rooms", []) if "name" in r]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
         raise InputError(f"{path}: rooms: room name '{dupes[0]}' is used twice; give each room its own name")

@@ -42,6 +42,9 @@ def _describe(error: jsonschema.ValidationError) -> str:
         return "give 'layer' (one layer for the whole file) or 'layers' (rules by name), not both"
     if v == "anyOf" and isinstance(inst, dict) and "layer" in inst:
         return "a layer rule needs 'match' or a key to match (class, name, id, type, storey, surface, parent, attributes)"
+    if v == "anyOf" and not error.path and isinstance(inst, dict):
+        return ("missing required key 'rooms' (the rooms check assesses), or 'screen' (the facades 'en17037 screen' "
+                "probes in a city model)")
     if v in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
         op = {"minimum": ">=", "maximum": "<=", "exclusiveMinimum": ">", "exclusiveMaximum": "<"}[v]
         return f"expected a value {op} {error.validator_value}, got {inst}"

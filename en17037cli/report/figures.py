@@ -285,7 +285,7 @@ def _paint(conn, run_pid: int) -> None:
     """The worker of :class:`Painters`: warm up, draw one batch of jobs, send the figures back; it
     ends with the run, even a run killed from outside (:mod:`~en17037cli.scale.lifeline`: it holds
     a copy of the run's end of its pipe, so its ``recv`` would wait for ever)."""
-    from en17037cli.report.pictures.canvas import warm_up
+    from en17037cli.report.pictures.raster import warm_up
     from en17037cli.scale.lifeline import end_with_parent
 
     end_with_parent(run_pid, kernel=True)

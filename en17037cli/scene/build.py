@@ -14,6 +14,7 @@ import numpy as np
 
 from en17037cli.errors import InputError
 from en17037cli.project.settings import Project
+from en17037cli.scene.city_frame import city_frame
 from en17037cli.scene.kinds import assign_kinds
 from en17037cli.scene.load import load_geometry
 from en17037cli.scene.model import INTERIOR, WINDOW, Geometry, Scene
@@ -35,6 +36,9 @@ def building_centre(g: Geometry) -> np.ndarray:
 def build_scene(project: Project) -> Scene:
     """Load the project's geometry and resolve windows and rooms (see module docstring)."""
     where = project.path.name
+    if not project.rooms:
+        raise InputError(f"{where}: rooms: none given; check, validate, batch and study assess rooms: give rooms (docs/rooms.md), "
+                         "or probe the city model's facades with 'en17037 screen' (its screen: section)")
     g = load_geometry(project.model, where)
     win_mask = g.layer == WINDOW
     if not np.any(win_mask):
@@ -52,8 +56,9 @@ def build_scene(project: Project) -> Scene:
     if len(dropped):
         g.notes.append(f"{len(dropped)} glazing faces of glass modelled as thin solids (inner faces, rims) left out: "
                        "each pane keeps its outer face")
-    north, north_src, site_warnings = resolve_north(project, g)
-    location, resolved, loc_warnings, loc_notes = resolve_location(project, g, where)
+    city = city_frame(g, origin[:2], project.model.files) if g.context else None  # the building set in a georeferenced city model
+    north, north_src, site_warnings = resolve_north(project, g, city)
+    location, resolved, loc_warnings, loc_notes = resolve_location(project, g, where, city)
     g.notes.extend(loc_notes)
     if north_src:
         resolved["model.true_north_deg"] = north_src

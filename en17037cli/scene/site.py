@@ -37,6 +37,7 @@ import numpy as np
 from en17037cli.errors import InputError
 from en17037cli.io.georef import distance_km, format_latlon
 from en17037cli.project.settings import Location, Project
+from en17037cli.scene.city_frame import NORTH_MISMATCH_DEG, SITE_MISMATCH_M, CityFrame, angle_between_deg, distance_m
 from en17037cli.scene.georef import outside_warnings
 from en17037cli.scene.model import Geometry
 
@@ -89,12 +90,16 @@ def default_site(lat: float, lon: float) -> str | None:
     return None
 
 
-def resolve_north(project: Project, g: Geometry) -> tuple[float, dict | None, list[str]]:
-    """True north [deg clockwise from +Y]: the project's, else the first model file's own (its
-    TrueNorth turned with the file's rotation), else 0; with where it came from and warnings (a
-    TrueNorth that is not a horizontal direction, as its reader took it)."""
+def resolve_north(project: Project, g: Geometry, city: CityFrame | None = None) -> tuple[float, dict | None, list[str]]:
+    """True north [deg clockwise from +Y]: the project's, else the city model's CRS where the
+    building is set in one (``city``, :mod:`~en17037cli.scene.georef`; a model file's own TrueNorth
+    that disagrees is warned), else the first model file's own (its TrueNorth turned with the file's
+    rotation), else 0; with where it came from and warnings (a TrueNorth that is not a horizontal
+    direction, as its reader took it)."""
     if project.model.true_north_deg is not None:
         return project.model.true_north_deg, None, []
+    if city is not None:
+        return city.north_deg, {"value": round(city.north_deg, 6), "source": city.source}, _north_against_city(g, city)
     warnings = []
     for display, site, rotate_deg in g.sites:
         if site.north_warning:
@@ -106,15 +111,26 @@ def resolve_north(project: Project, g: Geometry) -> tuple[float, dict | None, li
     return 0.0, None, warnings
 
 
-def resolve_location(project: Project, g: Geometry, where: str) -> tuple[Location | None, dict, list[str], list[str]]:
-    """The project's location with a latitude or longitude it leaves out taken from the model files
-    (see the module docstring: the georeference, else the IfcSite or gbXML location), what came
-    from where, and what to say of it (warnings, notes)."""
+def resolve_location(project: Project, g: Geometry, where: str,
+                     city: CityFrame | None = None) -> tuple[Location | None, dict, list[str], list[str]]:
+    """The project's location with a latitude or longitude it leaves out taken from the city model's
+    CRS where the building is set in one (``city``: one building, one city, one sun, whatever format
+    the building comes in; a model file's own site far from it is warned), else from the model files
+    (see the module docstring: the georeference, else the IfcSite or gbXML location), what came from
+    where, and what to say of it (warnings, notes)."""
     loc = project.location
     out: dict = {}
     if loc is None:
         return loc, out, [], []
     warnings = outside_warnings(g.located)
+    if city is not None and (loc.latitude is None or loc.longitude is None):
+        lat = loc.latitude if loc.latitude is not None else round(city.latitude, 6)
+        lon = loc.longitude if loc.longitude is not None else round(city.longitude, 6)
+        for key, value, given in (("latitude", lat, loc.latitude), ("longitude", lon, loc.longitude)):
+            if given is None:
+                out[f"location.{key}"] = {"value": value, "source": city.source}
+        note = f"location {format_location(lat, lon)} taken from {city.source}"
+        return replace(loc, latitude=lat, longitude=lon), out, warnings + _site_against_city(g, city, where), [note]
     geo, geo_file = next(((w, d) for d, w in g.located if w.inside), (None, None))
     if loc.latitude is not None and loc.longitude is not None:
         apart = None if geo is None else distance_km(loc.latitude, loc.longitude, geo.latitude, geo.longitude)
@@ -235,4 +251,37 @@ def location_lines(project: Project, scene) -> list[str]:
     how = (f"from {north['source']}" if north else "given by the project" if project.model.true_north_deg is not None
            else "the model's +Y (no file says)")
     out.append(f"true north: {round(scene.true_north_deg, 6) + 0.0:g} deg clockwise from the model's +Y, {how}")
+    return out
+
+
+def _north_against_city(g: Geometry, city: CityFrame) -> list[str]:
+    """A warning per model file whose own north (its TrueNorth turned with its transform) is more
+    than :data:`~en17037cli.scene.georef.NORTH_MISMATCH_DEG` from the city model's true north."""
+    out = []
+    for display, site, rotate_deg in g.sites:
+        if site.true_north_deg is None or display == city.display:
+            continue
+        own = (site.true_north_deg - rotate_deg) % 360.0
+        if angle_between_deg(own, city.north_deg) > NORTH_MISMATCH_DEG:
+            turn = (site.true_north_deg - city.north_deg) % 360.0
+            out.append(f"{display}: its TrueNorth, turned with its transform, puts true north at {own:.1f} deg clockwise "
+                       f"from +Y, where {city.source} has it at {city.north_deg:.1f} deg: north taken from the city model "
+                       f"(the frame its neighbours stand in); to set the file down as its TrueNorth says, give its "
+                       f"transform rotate_deg: {turn:.2f}, or give model.true_north_deg")
+    return out
+
+
+def _site_against_city(g: Geometry, city: CityFrame, where: str) -> list[str]:
+    """A warning per model file whose own site (not the null site) lies more than
+    :data:`~en17037cli.scene.georef.SITE_MISMATCH_M` from where the city model puts the building."""
+    out = []
+    for display, site, _ in g.sites:
+        if site.latitude is None or site.longitude is None or is_null_site(site.latitude, site.longitude):
+            continue
+        d = distance_m(site.latitude, site.longitude, city.latitude, city.longitude)
+        if d > SITE_MISMATCH_M:
+            out.append(f"{where}: {display} says it stands at {format_location(site.latitude, site.longitude)}, "
+                       f"{d / 1000:.0f} km from where {city.source} puts it ({format_location(city.latitude, city.longitude)}): "
+                       "the location is taken from the city model (a site in the file is often the authoring tool's or "
+                       "the office's); give location.latitude and location.longitude to choose another")
     return out

@@ -122,10 +122,16 @@ def _calls():
         "hours_chart": (P.hours_chart, (dates, hours), {"thresholds": THRESH_HOURS, "assessed_index": 20,
                                                         "per_window": {"W1": hours / 2}, "title": "R1"}),
         "tornado": (P.tornado, ([("grid spacing", 1.8, 2.1, 2.0), ("wall margin", 1.2, 2.6, 2.0)],), {"title": "T"}),
+        "glare_positions": (P.positions_map, (FLOOR, WINDOWS, np.array([[1.0, 1.0], [3.0, 2.0]]), np.array([[0.0, 1.0], [0.6, 0.8]]),
+                                              [0, 3], ["1", "2"]), {"true_north_deg": 15.0}),
+        "glare_hours": (P.dgp_carpet, (np.arange("2026-01-05T08:00", "2026-01-20T08:00", 60, dtype="datetime64[m]"),
+                                       0.3 + 0.1 * np.sin(np.arange(360) / 9.0)), {"limits": {"minimum": 0.45, "medium": 0.4, "high": 0.35}}),
+        "glare_luminance": (P.luminance_fisheye, (np.geomspace(10.0, 1e6, 64 * 64).reshape(64, 64),), {}),
     }
 
 
-@pytest.mark.parametrize("name", ["plan_sight_angle", "plan_distance", "plan_level", "plan_layers", "fisheye", "hours_chart", "tornado"])
+@pytest.mark.parametrize("name", ["plan_sight_angle", "plan_distance", "plan_level", "plan_layers", "fisheye", "hours_chart", "tornado",
+                                  "glare_positions", "glare_hours", "glare_luminance"])
 def test_same_inputs_give_the_same_bytes(name):
     f, args, kwargs = _calls()[name]
     a, b = f(*args, **kwargs), f(*args, **kwargs)
@@ -142,6 +148,7 @@ def test_sizes_are_fixed():
     assert sizes["fisheye"] == (360, 500)
     assert sizes["hours_chart"] == (320, 500)
     assert sizes["tornado"] == (400, 500)
+    assert sizes["glare_positions"] == (360, 500) and sizes["glare_hours"] == (320, 500) and sizes["glare_luminance"] == (360, 420)
     many = [(f"choice {i}", 1.0, 2.0 + i / 20, 1.5) for i in range(14)]
     assert decode(P.tornado(many)).shape[:2] == (520, 500)  # 0.3 in more per row beyond 10
 
@@ -584,16 +591,19 @@ def test_an_error_bound_rounded_to_zero_is_not_printed_as_zero():
 
 
 def _svg_texts(svg) -> list[tuple[str, float, float, str]]:
-    """(text, x, y, anchor) of every <text> of an SVG picture (fonts kept as text)."""
+    """(text, x, y, anchor) of every <text> of an SVG picture (fonts kept as text), x and y in points
+    of the printed picture (its width in pt over its viewBox's width)."""
     import re
 
     s = svg.decode() if isinstance(svg, bytes) else svg
+    head = re.search(r"<svg[^>]*>", s)[0]
+    k = float(re.search(r'width="([\d.]+)pt"', head)[1]) / float(re.search(r'viewBox="[-\d.]+ [-\d.]+ ([\d.]+)', head)[1])
     out = []
     for m in re.finditer(r'<text style="([^"]*)" (?:x="([-\d.]+)" y="([-\d.]+)"|transform="translate\(([-\d.]+) ([-\d.]+)\)")'
                          r'[^>]*>([^<]*)</text>', s):  # one line at x, y; a line of several at translate(x y)
         anchor = re.search(r"text-anchor: (\w+)", m[1])
         x, y = (m[2], m[3]) if m[2] is not None else (m[4], m[5])
-        out.append((m[6], float(x), float(y), anchor[1] if anchor else "start"))
+        out.append((m[6], k * float(x), k * float(y), anchor[1] if anchor else "start"))
     return out
 
 

@@ -27,8 +27,12 @@ class ViewRays:
     def _top(self, layer: int) -> float:
         """The highest point of any face of ``layer`` [m], local frame (-inf: none)."""
         if layer not in self._top_z:
-            faces = self.scene.triangles[self.scene.layer == layer]
-            self._top_z[layer] = float(self.scene.vertices[faces][..., 2].max()) if len(faces) else -np.inf
+            triangles = getattr(self.scene, "triangles", None)
+            if triangles is None:  # a scene of layers only (the district's): every direction stays possible
+                self._top_z[layer] = np.inf
+            else:
+                faces = triangles[self.scene.layer == layer]
+                self._top_z[layer] = float(self.scene.vertices[faces][..., 2].max()) if len(faces) else -np.inf
         return self._top_z[layer]
 
     @property

@@ -1,17 +1,20 @@
-"""The pictures of the client report: pure drawing functions that return PNG bytes.
+"""The pictures of the client report: pure drawing functions that return PNG bytes (and SVG).
 
 Nothing here traces rays or reads files: the callers pass the values, these modules draw them.
 
 - :mod:`.colours`: the colour tables, how light colours read, continuous colours, layer labels;
-- :mod:`.canvas`: a figure rendered to reproducible PNG bytes, and the shared parts (legends,
-  colour bars, north arrow, scale bar);
+  :mod:`.colourmaps`: viridis and cividis as 8-bit tables;
+- :mod:`.canvas`: what a picture holds (cells, images, paths, markers, text), written as SVG, and
+  :mod:`.raster`: the same drawn as PNG with Pillow and numpy; :mod:`.parts`: the parts several
+  pictures draw (legends, colour bars, north arrow, scale bar, arrows);
 - :mod:`.plan`: plan maps of a room's viewpoints (:func:`plan_map`, :func:`plan_rotation`);
 - :mod:`.fisheye`: the fisheye from point P with the sun's paths and its projection;
-- :mod:`.charts`: the hours-of-sunlight chart and the tornado chart;
+- :mod:`.charts`: the hours-of-sunlight chart, and the tornado chart of a sensitivity study (the one
+  picture matplotlib draws);
 - :mod:`.glare`: clause 5.4's map of positions, hourly DGP carpet and fisheye luminance.
 
 Durations are written by :func:`en17037cli.report.numbers.fmt_duration`, re-exported here.
-matplotlib is imported inside the functions that draw, so this package imports without it.
+Pillow and matplotlib are imported inside the functions that draw, so this package imports without them.
 """
 from __future__ import annotations
 

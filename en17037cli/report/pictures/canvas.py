@@ -1,25 +1,27 @@
-"""The shared drawing of the pictures: a figure rendered to reproducible PNG bytes, and the parts
-several pictures draw (legends, colour bars, north arrow, scale bar).
+"""The canvas of the pictures: what a picture holds, written as SVG by :mod:`.svg` and drawn as PNG
+by :mod:`.raster` (:func:`.raster.render`), without matplotlib.
 
-Every picture is reproducible as matplotlib's own test suite makes its images: a fixed figure
-size and DPI, the Agg canvas (pyplot is never imported), matplotlib's default style with the
-bundled DejaVu Sans font set locally through :func:`matplotlib.rc_context`, and no
-``Software`` entry in the PNG metadata, so the same inputs give byte-identical files on one
-installation (another FreeType or matplotlib version may move anti-aliased pixels).
+A picture is laid out in *layout pixels* from its bottom-left corner, y up, and printed at
+``scale`` of its size: a picture of ``size_px`` layout pixels is ``scale x size_px / 100`` inches,
+its PNG has one pixel per layout pixel (``100 / scale`` dots per inch) and its SVG's ``viewBox`` is
+in layout pixels. Text is set in points at that printed size, never below :data:`MIN_FONT_PT` (8 pt
+on paper: EN ISO 216 A4 reports read at arm's length); line widths and dashes are in printed points.
 
-Pictures are laid out in *layout pixels* from the bottom-left of the figure (:func:`layout_px`) and
-drawn at the size they are printed at: a picture of ``size_px`` layout pixels is
-``scale x size_px / 100`` inches, its PNG is written at ``100 / scale`` dots per inch (one PNG pixel
-per layout pixel) and its SVG is vector. Text is set in points at that printed size, never below
-:data:`MIN_FONT_PT` (8 pt on paper: EN ISO 216 A4 reports read at arm's length). matplotlib is
-imported inside the functions that draw, so this module imports without it.
+A :class:`Canvas` records, in drawing order: pixel images and cells (filled without anti-aliasing,
+so their pixels carry their exact colours), paths (polylines and polygons, stroked and filled),
+markers (discs and rings) and text. Text is data, never markup: the SVG escapes it and keeps it as
+text (selectable, measurable in a browser), with the characters XML cannot hold replaced by U+FFFD.
+The same canvas gives byte-identical PNG and SVG on one installation (no dates, no version strings).
 """
 from __future__ import annotations
 
-import io
-from collections.abc import Callable
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
+
+from en17037cli.report.pictures.text import ASCENT, DESCENT, font
 
 #: Layout pixels per inch at scale 1 (a picture's PNG has one pixel per layout pixel).
 DPI = 100
@@ -28,78 +30,137 @@ MIN_FONT_PT = 8.0
 #: The report's pictures are printed at this fraction of their layout size: a 500 px wide map is
 #: 3.45 in on paper, two side by side on A4 (and its PNG, one pixel per layout pixel, is 145 dpi).
 PRINT_SCALE = 0.69
-
-_RC: dict = {
-    # Text from a model (names, GlobalIds, whose alphabet includes "$") is data: never parsed as TeX
-    # mathematics ("$...$"), which stopped AC11-Institute's run on "...IBf$$ZaZkjsa)" (issue 43).
-    "text.parse_math": False,
-    "font.family": "DejaVu Sans",
-    "font.size": 8,
-    "svg.hashsalt": "en17037cli",
-    "svg.fonttype": "none",  # text stays text in the SVG: selectable, and measurable in a browser
-    "lines.scale_dashes": False,
-    "axes.titlesize": 9,
-    "axes.labelsize": 8,
-    "legend.fontsize": 8,
-    "legend.frameon": False,
-    "xtick.labelsize": 8,
-    "ytick.labelsize": 8,
-}
+#: Line spacing of text of several lines [font sizes] (as matplotlib set it).
+LINE_SPACING = 1.2
+_NAMED = {"black": "#000000", "white": "#ffffff"}
+_XML_BAD = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
 
-def layout_px(fig):
-    """The transform from layout pixels (bottom-left origin) to the figure, at any output resolution."""
-    from matplotlib.transforms import Affine2D
-
-    return Affine2D().scale(fig.en17037_scale / DPI) + fig.dpi_scale_trans
-
-
-def pt_px(fig) -> float:
-    """Layout pixels per printed point."""
-    return DPI / 72.0 / fig.en17037_scale
+def colour_hex(c) -> str:
+    """``"#rrggbb"`` of a hex string, ``"black"``/``"white"`` or an RGB(A) row of floats in [0, 1]."""
+    if isinstance(c, str):
+        return _NAMED.get(c, c).lower()
+    r, g, b = (int(round(float(v) * 255)) for v in list(c)[:3])
+    return f"#{r:02x}{g:02x}{b:02x}"
 
 
-def _render(draw: Callable, size_px: tuple[float, float], scale: float = PRINT_SCALE, fmt: str = "png"):
-    """Draw on a fresh figure of ``size_px`` layout pixels printed ``scale`` x ``size_px / 100`` in.
-
-    Returns the PNG bytes (one pixel per layout pixel), the SVG text as UTF-8 bytes, or for
-    ``fmt="both"`` the pair (png, svg), drawn once.
-    """
-    import matplotlib
-    import matplotlib.style
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    dpi = DPI / scale
-    with matplotlib.style.context("default"), matplotlib.rc_context(_RC):  # the user's matplotlibrc does not leak in
-        fig = Figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
-        fig.en17037_scale = scale
-        FigureCanvasAgg(fig)
-        draw(fig)
-        out = {}
-        for kind in (("png", "svg") if fmt == "both" else (fmt,)):
-            buf = io.BytesIO()
-            meta = {"Software": None} if kind == "png" else {"Date": None, "Creator": None}
-            fig.savefig(buf, format=kind, dpi=dpi, metadata=meta)
-            out[kind] = buf.getvalue()
-    return (out["png"], out["svg"]) if fmt == "both" else out[fmt]
+def colour_rgb(c) -> tuple[int, int, int]:
+    """(r, g, b) in 0..255 of a colour as :func:`colour_hex` takes it."""
+    h = colour_hex(c)
+    return int(h[1:3], 16), int(h[3:5], 16), int(h[5:7], 16)
 
 
-def image_at(fig, rgb: np.ndarray, box_px: tuple[float, float, float, float]) -> None:
-    """An RGB image (h, w, 3) uint8 shown pixel for pixel in ``box_px`` (left, bottom, width, height)
-    layout pixels: an axes of its own, so it lands in place in the PNG and the SVG alike."""
-    x0, y0, w, h = box_px
-    W, H = fig.get_size_inches() * fig.dpi
-    ax = fig.add_axes((x0 / W, y0 / H, w / W, h / H))
-    ax.imshow(rgb, interpolation="nearest", aspect="auto", extent=(0, 1, 0, 1))
-    ax.set_axis_off()
+def xml_text(s: str) -> str:
+    """Text as XML character data: ``&``, ``<``, ``>`` escaped, characters XML 1.0 cannot hold as U+FFFD."""
+    s = _XML_BAD.sub("\ufffd", str(s))
+    return s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
-def warm_up() -> None:
-    """Import matplotlib and load the font by drawing a tiny picture: the first picture's fixed
-    cost (about 0.5 s), for a caller to pay in a background thread while it traces rays. The
-    caller must wait for it (``Thread.join``) before drawing: matplotlib's settings are global."""
-    _render(lambda fig: fig.text(0.5, 0.5, "0°"), (20, 20))
+def split_nan(p: np.ndarray) -> list[np.ndarray]:
+    """The runs of two or more finite points of a polyline (k, 2) with NaN breaks."""
+    ok = np.all(np.isfinite(p), axis=1)
+    if ok.all():
+        return [p] if len(p) >= 2 else []
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(np.int8), [0]])))
+    return [p[a:b] for a, b in zip(edges[::2], edges[1::2]) if b - a >= 2]
+
+
+def _thinned(p: np.ndarray, step_px: float = 6.0) -> np.ndarray:
+    """A long polyline (k, 2) [layout px] with its points at least about ``step_px`` apart along it
+    (the first point of each step, and the last point): a sun path sampled every 2 min has points
+    half a pixel apart, and a chord of 6 px on a curve of radius 100 px is 0.05 px off it."""
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
+    _, first = np.unique(np.floor(s / step_px), return_index=True)
+    if first[-1] != len(p) - 1:
+        first = np.append(first, len(p) - 1)
+    return p[first]
+
+
+@dataclass
+class Canvas:
+    """A picture of ``width`` x ``height`` layout pixels printed at ``scale`` (see the module)."""
+
+    width: int
+    height: int
+    scale: float = PRINT_SCALE
+    items: list = field(default_factory=list)
+
+    @property
+    def pt(self) -> float:
+        """Layout pixels per printed point."""
+        return DPI / 72.0 / self.scale
+
+    def image(self, pixels: np.ndarray, box: tuple[int, int, int, int], palette: np.ndarray | None = None) -> None:
+        """An image in ``box`` (left, bottom, w, h) [whole layout px], row 0 at the top: RGB (r, c, 3)
+        uint8, or indices (r, c) uint8 into ``palette`` (k, 3) uint8 (a class raster); pixel for pixel
+        where (r, c) = (h, w), else each pixel the nearest of the image's (the SVG holds the image as
+        it is, scaled without smoothing)."""
+        pal = None if palette is None else np.ascontiguousarray(palette, dtype=np.uint8).reshape(-1, 3)
+        self.items.append(("image", np.ascontiguousarray(pixels, dtype=np.uint8), tuple(int(v) for v in box), pal))
+
+    def cells(self, quads: np.ndarray, rgb: np.ndarray) -> None:
+        """Parallelograms (n, 4, 2) [layout px, corners in turn] filled with (n, 3) uint8 colours, not
+        anti-aliased: a pixel whose centre lies in a cell takes the cell's exact colour."""
+        q = np.asarray(quads, dtype=float).reshape(-1, 4, 2)
+        if len(q):
+            self.items.append(("cells", q, np.asarray(rgb, dtype=np.uint8).reshape(-1, 3)))
+
+    def path(self, xy, *, stroke="black", lw: float = 1.0, fill=None, closed: bool = False, dash: Sequence[float] | None = None,
+             alpha: float = 1.0) -> None:
+        """A polyline or polygon (k, 2) [layout px], or several of the same style (a list of them).
+
+        stroke, fill : colour or None; lw : line width [pt]; dash : on, off, ... lengths [pt]; the
+        line's ends are butt, its joins round; alpha : opacity of the stroke and fill.
+        """
+        pieces = [q for p in (xy if isinstance(xy, list) else [xy]) for q in split_nan(np.asarray(p, dtype=float).reshape(-1, 2))]
+        pieces = [_thinned(p) if len(p) > 64 else p for p in pieces]  # a long curve's points 6 px apart
+        if pieces and (stroke is not None or fill is not None):
+            allp = np.vstack(pieces)
+            box = (float(allp[:, 0].min()), float(allp[:, 1].min()), float(allp[:, 0].max()), float(allp[:, 1].max()))
+            self.items.append(("path", pieces, None if stroke is None else colour_hex(stroke), float(lw),
+                               None if fill is None else colour_hex(fill), bool(closed), tuple(dash) if dash else None, alpha, box))
+
+    def rect(self, x: float, y: float, w: float, h: float, **kw) -> None:
+        """A rectangle from its bottom-left corner (x, y) [layout px]; keywords of :meth:`path`."""
+        self.path(np.array([[x, y], [x + w, y], [x + w, y + h], [x, y + h]]), closed=True, **kw)
+
+    def markers(self, xy, size: float, *, fill=None, stroke=None, lw: float = 1.0) -> None:
+        """A disc or ring of diameter ``size`` [pt] (matplotlib's marker size) at each point (m, 2) [layout px]."""
+        p = np.asarray(xy, dtype=float).reshape(-1, 2)
+        p = p[np.all(np.isfinite(p), axis=1)]
+        if len(p):
+            self.items.append(("markers", p, float(size), None if fill is None else colour_hex(fill),
+                               None if stroke is None else colour_hex(stroke), float(lw)))
+
+    def text(self, x: float, y: float, s: str, *, size: float = MIN_FONT_PT, ha: str = "left", va: str = "baseline",
+             colour="black", bold: bool = False, rotation: int = 0, box: tuple | None = None) -> None:
+        """Text at (x, y) [layout px]: ``size`` [pt], ``ha`` left/center/right, ``va`` top/center/
+        baseline/bottom (of its block of lines), ``rotation`` 0 or 90 [deg], ``box`` (colour,
+        opacity, pad [em]) behind it. Lines break at ``\\n``; the text is drawn as written."""
+        s = str(s)
+        if s:
+            self.items.append(("text", float(x), float(y), s, float(size), ha, va, colour_hex(colour), bool(bold), int(rotation),
+                               box))
+
+    def lines_of(self, x: float, y: float, s: str, size: float, ha: str, va: str, rotation: int = 0):
+        """Each line of a text item with its anchor [layout px]: (line, x, baseline y) with the block
+        aligned by ``va``; rotated by 90 deg the lines stack to the right."""
+        lines = s.split("\n")
+        em = size * self.pt
+        step = LINE_SPACING * em
+        block = (len(lines) - 1) * step + (ASCENT + DESCENT) * em
+        top = {"top": 0.0, "center": block / 2, "bottom": block}.get(va, ASCENT * em)  # from y up to the block's top
+        first = top - ASCENT * em
+        out = []
+        for k, line in enumerate(lines):
+            off = first - k * step  # the line's baseline relative to y, along the text's "up"
+            out.append((line, x - off, y) if rotation == 90 else (line, x, y + off))
+        return out
+
+    def text_width(self, s: str, size: float = MIN_FONT_PT, bold: bool = False) -> float:
+        """Width [layout px] of the widest line of ``s`` in DejaVu Sans at ``size`` [pt]."""
+        f = font(size * self.pt, bold)
+        return max(f.getlength(line) for line in str(s).split("\n"))
 
 
 def _fmt_num(v: float) -> str:
@@ -117,93 +178,3 @@ def _scale_bar_m(width_m: float) -> float:
             if v <= target:
                 best = v
     return best
-
-
-def _scale_bar(fig, x0: float, y0: float, length_px: float, length_m: float) -> None:
-    """A scale bar from (x0, y0) [px], two halves black and white, ``length_px`` long for ``length_m`` [m]."""
-    from matplotlib.patches import Rectangle
-    px = layout_px(fig)
-    fig.add_artist(Rectangle((x0, y0), length_px / 2, 5, facecolor="black", edgecolor="black", linewidth=0.6, transform=px))
-    fig.add_artist(Rectangle((x0 + length_px / 2, y0), length_px / 2, 5, facecolor="white", edgecolor="black", linewidth=0.6,
-                             transform=px))
-    fig.text(x0 + length_px + 6, y0 + 2.5, f"{_fmt_num(length_m)} m", va="center", ha="left", fontsize=MIN_FONT_PT, transform=px)
-
-
-def _legend(fig, x: float, y: float, entries: list, title: str | None = None, size: float = MIN_FONT_PT) -> float:
-    """A legend drawn with plain artists from its top-left corner (x, y) [layout px]; returns the y below it.
-
-    entries : list of (kind, style, label); kind "patch" (style: face colour), "line" (style: list
-    of Line2D keyword dicts drawn on top of each other) or "marker" (style: Line2D keywords)
-    """
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Rectangle
-
-    px = layout_px(fig)
-    row = 1.4 * size * pt_px(fig)  # a line of text and a little air
-    key = 1.1 * size * pt_px(fig)  # the swatch's width
-    if title:
-        fig.text(x, y, title, ha="left", va="top", fontsize=size, transform=px)
-        y -= row + 2
-    for kind, style, label in entries:
-        cy = y - row / 2
-        if kind == "patch":
-            fig.add_artist(Rectangle((x, cy - 0.3 * key), key, 0.6 * key, facecolor=style, edgecolor="black", linewidth=0.4,
-                                     transform=px))
-        elif kind == "line":
-            for kw in style:
-                fig.add_artist(Line2D([x, x + key], [cy, cy], transform=px, **kw))
-        else:
-            fig.add_artist(Line2D([x + key / 2], [cy], linestyle="none", transform=px, **style))
-        fig.text(x + key + 6, cy, label, ha="left", va="center", fontsize=size, transform=px)
-        y -= row
-    return y
-
-
-def _colour_bar(fig, box_px: tuple[int, int, int, int], norm, cmap_name, extend, label, thresholds, kind):
-    """A colour bar drawn as a pixel image in ``box_px`` (left, bottom, width, height) [px], the level thresholds across it."""
-    import matplotlib
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Polygon, Rectangle
-    px = layout_px(fig)
-    cmap = matplotlib.colormaps[cmap_name]
-    x0, y0, w, h = box_px
-    t = (np.arange(h)[::-1] + 0.5) / h  # row 0 is the top
-    column = np.round(np.asarray(cmap(t))[:, :3] * 255).astype(np.uint8)
-    image_at(fig, column[:, None, :], (x0, y0, w, h))
-    tip = 0.6 * w
-    if extend in ("min", "both"):
-        fig.add_artist(Polygon([(x0, y0), (x0 + w, y0), (x0 + w / 2, y0 - tip)], facecolor=cmap(0.0), edgecolor="black",
-                               linewidth=0.5, transform=px))
-    if extend in ("max", "both"):
-        fig.add_artist(Polygon([(x0, y0 + h), (x0 + w, y0 + h), (x0 + w / 2, y0 + h + tip)], facecolor=cmap(1.0),
-                               edgecolor="black", linewidth=0.5, transform=px))
-    fig.add_artist(Rectangle((x0, y0), w, h, fill=False, edgecolor="black", linewidth=0.5, transform=px))
-    unit = {"sight_angle": "°", "daylight_factor": " %", "share_of_hours": ""}.get(kind, " m")
-    for name in ("minimum", "medium", "high"):
-        v = float(thresholds[name])
-        if norm.vmin <= v <= norm.vmax:
-            y = y0 + float(norm(v)) * h
-            fig.add_artist(Line2D([x0, x0 + w + 3], [y, y], color="white", linewidth=2.4, transform=px))
-            fig.add_artist(Line2D([x0, x0 + w + 3], [y, y], color="black", linewidth=1.0, transform=px))
-            fig.text(x0 + w + 6, y, f"{name} {_fmt_num(v)}{unit}", ha="left", va="center", fontsize=MIN_FONT_PT, transform=px)
-    lo_lab, hi_lab = (f"{_fmt_num(norm.vmin)}°", f"{_fmt_num(round(norm.vmax, 1))}°") if kind == "sight_angle" else \
-        (f"≤ {_fmt_num(norm.vmin)} m", f"≥ {_fmt_num(round(norm.vmax))} m, unobstructed")
-    if kind in ("daylight_factor", "share_of_hours"):
-        lo_lab, hi_lab = f"{_fmt_num(norm.vmin)}{unit}", f"{_fmt_num(round(norm.vmax, 2))}{unit}"
-    fig.text(x0 + w + 6, y0 - (tip if extend in ("min", "both") else 0), lo_lab, ha="left", va="center", fontsize=MIN_FONT_PT,
-             color="#404040", transform=px)
-    fig.text(x0 + w + 6, y0 + h + (tip if extend in ("max", "both") else 0), hi_lab, ha="left", va="center", fontsize=MIN_FONT_PT,
-             color="#404040", transform=px)
-    fig.text(x0, y0 + h + tip + 14, label, ha="left", va="bottom", fontsize=MIN_FONT_PT, transform=px)
-
-
-def _north_arrow(fig, centre: tuple[float, float], north: np.ndarray, length: float = 44.0):
-    """An arrow through ``centre`` [px] pointing along ``north`` (a vector of the picture), marked N."""
-    from matplotlib.patches import FancyArrowPatch
-    px = layout_px(fig)
-    n = north / max(float(np.hypot(*north)), 1e-12)
-    c = np.asarray(centre, dtype=float)
-    fig.add_artist(FancyArrowPatch(tuple(c - 0.5 * length * n), tuple(c + 0.5 * length * n), arrowstyle="-|>", color="black",
-                                   linewidth=1.2, mutation_scale=10, transform=px))
-    tip = c + (0.5 * length + 9) * n
-    fig.text(tip[0], tip[1], "N", ha="center", va="center", fontsize=MIN_FONT_PT + 1, fontweight="bold", transform=px)

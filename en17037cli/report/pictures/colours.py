@@ -5,12 +5,14 @@ levels and the eight layer combinations are samples of viridis ordered by lumina
 classes of the fisheye go from dark (blocked) to light (sky). :func:`relative_luminance` and
 :func:`lightness` measure this (Rec. 709 primaries, sRGB transfer, CIE 1976 L*).
 
-The tables are hex strings, so this module needs no matplotlib to define them; matplotlib is
-imported inside the functions that use its colour maps.
+The tables are hex strings and the continuous colour maps 8-bit tables (:mod:`.colourmaps`), so
+nothing here needs matplotlib.
 """
 from __future__ import annotations
 
 import numpy as np
+
+from en17037cli.report.pictures.colourmaps import lookup
 
 #: Level colours, none .. high: viridis at 0, 1/3, 2/3, 1 (L* 15, 42, 67, 91).
 LEVEL_COLOURS = ("#440154", "#31688e", "#35b779", "#fde725")
@@ -96,22 +98,38 @@ def lightness(colours) -> np.ndarray:
     return np.where(y > 216 / 24389, 116 * np.cbrt(y) - 16, y * 24389 / 27)
 
 
+class Norm:
+    """A value's place on a colour bar, in [0, 1] between ``vmin`` and ``vmax`` (linear, or on a log
+    scale; values at or below 0 on a log scale: NaN). matplotlib's ``Normalize`` and ``LogNorm``
+    without clipping."""
+
+    def __init__(self, vmin: float, vmax: float, log: bool = False):
+        self.vmin, self.vmax, self.log = float(vmin), float(vmax), log
+
+    def __call__(self, v):
+        v = np.asarray(v, dtype=float)
+        if self.log:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                lv = np.where(v > 0, np.log10(np.where(v > 0, v, 1.0)), np.nan)
+            lo, hi = np.log10(self.vmin), np.log10(self.vmax)
+            return (lv - lo) / (hi - lo) if hi > lo else np.zeros_like(v)
+        return (v - self.vmin) / (self.vmax - self.vmin) if self.vmax > self.vmin else np.zeros_like(v)
+
+
 def _continuous_norm(kind: str, vals: np.ndarray, thresholds: dict):
     """(norm, colour map name, extend, label) of a continuous plan map."""
-    from matplotlib.colors import LogNorm, Normalize
-
     finite = vals[np.isfinite(vals)]
     high = float(thresholds["high"])
     if kind == "sight_angle":
         vmax = max(1.25 * high, float(finite.max()) if finite.size else 0.0)
-        return Normalize(0.0, vmax), CMAP[kind], "neither", "horizontal sight angle [°]"
+        return Norm(0.0, vmax), CMAP[kind], "neither", "horizontal sight angle [°]"
     if kind == "daylight_factor":
         vmax = max(1.25 * high, float(finite.max()) if finite.size else 0.0)
-        return Normalize(0.0, vmax), CMAP[kind], "neither", "daylight factor [%]\n(marks: D_T of each level)"
+        return Norm(0.0, vmax), CMAP[kind], "neither", "daylight factor [%]\n(marks: D_T of each level)"
     if kind == "share_of_hours":
-        return Normalize(0.0, 1.0), CMAP[kind], "neither", "share of daylight hours\nreaching the target"
+        return Norm(0.0, 1.0), CMAP[kind], "neither", "share of daylight hours\nreaching the target"
     vmax = max(2.0 * high, float(finite.max()) if finite.size else 0.0, 2.0 * DISTANCE_VMIN_M)
-    return LogNorm(DISTANCE_VMIN_M, vmax), CMAP[kind], "both", "outside distance [m]\n(top: unobstructed)"
+    return Norm(DISTANCE_VMIN_M, vmax, log=True), CMAP[kind], "both", "outside distance [m]\n(top: unobstructed)"
 
 
 def continuous_colours(kind: str, values, thresholds: dict, all_values=None) -> np.ndarray:
@@ -128,16 +146,14 @@ def continuous_colours(kind: str, values, thresholds: dict, all_values=None) -> 
     -------
     (m, 4) float in [0, 1]; NaN rows where the value is NaN
     """
-    import matplotlib
-
     v = np.asarray(values, dtype=float).reshape(-1)
     scale = v if all_values is None else np.asarray(all_values, dtype=float).reshape(-1)
     norm, cmap_name, _, _ = _continuous_norm(kind, scale, thresholds)
-    cmap = matplotlib.colormaps[cmap_name]
     with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.ma.filled(norm(np.where(np.isnan(v), 1.0, np.where(np.isinf(v), norm.vmax, v))), 0.0)  # <= 0 on a log scale: lowest
-    t = np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)
-    rgba = np.asarray(cmap(t), dtype=float)
+        t = norm(np.where(np.isnan(v), 1.0, np.where(np.isinf(v), norm.vmax, v)))
+    t = np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)  # <= 0 on a log scale: the lowest colour
+    rgba = np.ones((len(v), 4))
+    rgba[:, :3] = lookup(cmap_name, t) / 255.0
     rgba[np.isnan(v)] = np.nan
     return rgba
 

@@ -6,6 +6,7 @@ directions the caller traces, and :func:`fisheye` draws the traced classes with 
 """
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 
@@ -13,7 +14,9 @@ import numpy as np
 
 from en17037cli.geometry.fisheye import fisheye_directions, fisheye_pixel_xy, fisheye_xy
 from en17037cli.report.pictures import colours
-from en17037cli.report.pictures.canvas import DPI, _fmt_num, _legend, _render, image_at, layout_px
+from en17037cli.report.pictures.canvas import DPI, Canvas, _fmt_num
+from en17037cli.report.pictures.parts import legend
+from en17037cli.report.pictures.raster import render
 
 __all__ = ["fisheye", "fisheye_directions", "fisheye_pixel", "fisheye_pixel_xy", "fisheye_xy"]
 
@@ -49,17 +52,25 @@ def fisheye_pixel(x, y) -> tuple[np.ndarray, np.ndarray]:
     return np.floor(row).astype(int), np.floor(col).astype(int)
 
 
-def _fisheye_raster(image: np.ndarray) -> np.ndarray:
-    """The class raster as (2R, 2R, 3) uint8 pixels of the PNG, nearest source pixel, white outside the circle."""
-    n, m = image.shape[0], 2 * FISHEYE_RADIUS_PX
+@functools.lru_cache(maxsize=8)
+def _resampling(n: int, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """The source row (and column) of each of ``m`` picture pixels from an (n, n) raster, and the
+    (m, m) pixels outside the circle."""
     src = np.minimum(((np.arange(m) + 0.5) * n / m).astype(int), n - 1)
-    classes = np.clip(image[np.ix_(src, src)].astype(int), colours.OUTSIDE, colours.CLASS_GROUND)
     x, y = fisheye_pixel_xy(m)
-    classes[np.hypot(x, y) > 1.0] = colours.OUTSIDE
-    lut = np.zeros((5, 3), dtype=np.uint8)
+    return src, np.hypot(x, y) > 1.0
+
+
+def _fisheye_raster(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The class raster as (2R, 2R) indices of the PNG's pixels (the class + 1, nearest source
+    pixel, 0 outside the circle) and their palette (5, 3) uint8, :data:`~.colours.CLASS_COLOURS`."""
+    src, outside = _resampling(image.shape[0], 2 * FISHEYE_RADIUS_PX)
+    index = (np.clip(image.astype(np.int8)[src][:, src], colours.OUTSIDE, colours.CLASS_GROUND) + 1).astype(np.uint8)
+    index[outside] = colours.OUTSIDE + 1
+    palette = np.zeros((5, 3), dtype=np.uint8)
     for k, colour in colours.CLASS_COLOURS.items():
-        lut[k + 1] = np.round(colours._rgb([colour])[0] * 255).astype(np.uint8)
-    return lut[classes + 1]
+        palette[k + 1] = np.round(colours._rgb([colour])[0] * 255).astype(np.uint8)
+    return index, palette
 
 
 _COMPASS = (("N", 0), ("NE", 45), ("E", 90), ("SE", 135), ("S", 180), ("SW", 225), ("W", 270), ("NW", 315))
@@ -73,7 +84,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def _nan_joined(xs: np.ndarray, ys: np.ndarray, runs: list[tuple[int, int]]) -> tuple[np.ndarray, np.ndarray]:
-    """One polyline per run, joined with NaN breaks (one Line2D for many pieces)."""
+    """One polyline per run, joined with NaN breaks (one path of many pieces)."""
     px: list[np.ndarray] = []
     py: list[np.ndarray] = []
     for a, b in runs:
@@ -112,103 +123,103 @@ def fisheye(image, *, sun_paths: Sequence[dict], min_altitude_deg: float, view_a
     img = np.asarray(image)
     if img.ndim != 2 or img.shape[0] != img.shape[1]:
         raise ValueError(f"image must have shape (N, N), not {img.shape}")
-    raster = _fisheye_raster(img)
+    raster, palette = _fisheye_raster(img)
     R = float(FISHEYE_RADIUS_PX)
     height_px = FISHEYE_SIZE_IN[1] * DPI
-    cx, cy = float(FISHEYE_CENTRE_PX[0]), height_px - FISHEYE_CENTRE_PX[1]  # display coordinates, y up
-    pt = DPI / 72.0  # [px/pt]
-    boxed = {"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.7}
+    cx, cy = float(FISHEYE_CENTRE_PX[0]), height_px - FISHEYE_CENTRE_PX[1]  # layout px, y up
+    pt = DPI / 72.0  # the offsets' unit [px]
+    c = Canvas(int(FISHEYE_SIZE_IN[0] * 100), int(height_px))
+    to_px = lambda x, y: np.column_stack([cx + R * np.asarray(x, dtype=float), cy + R * np.asarray(y, dtype=float)])  # noqa: E731
+    line = lambda x, y, **kw: c.path(to_px(x, y), **kw)  # noqa: E731
 
-    def draw(fig):
-        from matplotlib.lines import Line2D
-        from matplotlib.patches import Circle
-        from matplotlib.transforms import Affine2D
+    def text(x, y, s, dy=0.0, box=None, **kw):
+        c.text(cx + R * x, cy + R * y + dy * pt, s, box=None if box is None else ("white", 0.7, box), **kw)
 
-        px = layout_px(fig)
-        T = Affine2D().scale(R).translate(cx, cy) + px
-        line = lambda x, y, **kw: fig.add_artist(Line2D(x, y, transform=T, **kw))
-        text = lambda x, y, s, dy=0.0, **kw: fig.text(cx + R * x, cy + R * y + dy * pt, s, transform=px, **kw)
-        image_at(fig, raster, (int(cx - R), int(cy - R), raster.shape[1], raster.shape[0]))
-        fig.add_artist(Circle((0, 0), 1.0, fill=False, edgecolor="black", linewidth=1.0, transform=T))
-        line([-1, 1], [0, 0], color="black", linewidth=0.5, alpha=0.6)  # horizon
-        # minimum sun altitude: the curve altitude = const within the field
-        az = view_azimuth_deg + np.linspace(-90.0, 90.0, 181)
-        mx, my = fisheye_xy(az, np.full_like(az, min_altitude_deg), view_azimuth_deg)
-        line(mx, my, color="black", linewidth=1.8)
-        line(mx, my, color="white", linewidth=0.9, linestyle=(0, (3, 2)))
-        marks: dict[str, list] = {}
-        placed: list[tuple[float, float]] = []  # the path labels drawn: (x [-1, 1], y [px] above the centre)
-        for p in sun_paths:
-            a = np.asarray(p["azimuth_deg"], dtype=float).reshape(-1)
-            h = np.asarray(p["altitude_deg"], dtype=float).reshape(-1)
-            vis = np.asarray(p["visible"], dtype=bool).reshape(-1)
-            x, y = fisheye_xy(a, h, view_azimuth_deg)
-            ok = (h >= 0) & (np.hypot(x, y) <= 1.0)
-            if not ok.any():
-                continue
-            # a segment i..i+1 is drawn when both ends are in the field; seen where both are seen
-            seg_ok = ok[:-1] & ok[1:]
-            seg_vis = seg_ok & vis[:-1] & vis[1:]
-            for seen, lw, casing, ls in ((False, 0.9, 1.8, (0, (3, 2))), (True, 2.2, 3.6, "-")):
-                runs = [(s0, e + 1) for s0, e in _runs(seg_vis if seen else seg_ok & ~seg_vis)]
-                if runs:
-                    jx, jy = _nan_joined(x, y, runs)
-                    line(jx, jy, color="black", linewidth=casing, linestyle=ls, solid_capstyle="butt")
-                    line(jx, jy, color=colours.SUN_PATH_COLOUR, linewidth=lw, linestyle=ls, solid_capstyle="butt")
-            top = int(np.argmax(np.where(ok, y, -np.inf)))
-            if p.get("label"):
-                # a path whose top is at the rim (a window facing east or west) is labelled inwards, not
-                # over the picture's edge; a label on one already drawn goes under it
-                ha = "left" if x[top] < -LABEL_INWARD else "right" if x[top] > LABEL_INWARD else "center"
-                dy = 4.0
-                while any(abs(x[top] - ox) * R < LABEL_CLEAR_PX and abs(y[top] * R + dy * pt - oy) < 11 * pt for ox, oy in placed):
-                    dy -= 11.0
-                placed.append((float(x[top]), float(y[top] * R + dy * pt)))
-                text(x[top], y[top], str(p["label"]), dy=dy, ha=ha, va="bottom", fontsize=8,
-                     bbox=boxed | {"boxstyle": "round,pad=0.15"})
-            for ma, mh, lab in p.get("hour_marks", ()):
-                hx, hy = fisheye_xy(ma, mh, view_azimuth_deg)
-                if mh >= 0 and float(np.hypot(hx, hy)) <= 1.0:
-                    marks.setdefault(str(lab), []).append((float(hx), float(hy)))
-        # hour marks: a dot on each path, the same hour joined across the dates, labelled once below; a
-        # label that would touch the previous one kept is left out (at 8 pt an hour's label is wider
-        # than the hour's step near the horizon)
-        kept: list = []
-        for lab, xy in marks.items():
-            xy_a = np.array(xy)
-            if len(xy_a) > 1:
-                line(xy_a[:, 0], xy_a[:, 1], color="black", linewidth=0.5)
-            line(xy_a[:, 0], xy_a[:, 1], linestyle="none", marker="o", markersize=2.8, color="black", markeredgecolor="white",
-                 markeredgewidth=0.5)
-            low = xy_a[int(np.argmin(xy_a[:, 1]))]
-            if all(abs(R * (low[0] - k[0])) > HOUR_LABEL_GAP_PX or abs(R * (low[1] - k[1])) > 14 for k in kept):
-                text(low[0], low[1], lab, dy=-4, ha="center", va="top", fontsize=8, bbox=boxed)
-                kept.append(low)
-        # compass points on the horizon (at the rim where they fall on it)
-        for name, c in _COMPASS:
-            d = (c - view_azimuth_deg + 180.0) % 360.0 - 180.0
-            if abs(d) <= 90.0:
-                x = d / 90.0
-                line([x, x], [-0.03, 0.03], color="black", linewidth=0.8)
-                if abs(d) >= 85.0:
-                    text(math.copysign(1.07, d), 0.0, name, ha="center", va="center", fontsize=8, fontweight="bold")
-                else:
-                    text(x, -0.05, name, ha="center", va="top", fontsize=8, fontweight="bold", bbox=boxed)
-        text(0.0, 1.0, "zenith", dy=3, ha="center", va="bottom", fontsize=8)
-        legend_order = (colours.CLASS_SKY, colours.CLASS_LANDSCAPE, colours.CLASS_GROUND, colours.BLOCKED)
-        entries = [("patch", colours.CLASS_COLOURS[k], colours.CLASS_NAMES[k]) for k in legend_order]
-        entries += [
-            ("line", [{"color": "black", "linewidth": 3.6}, {"color": colours.SUN_PATH_COLOUR, "linewidth": 2.2}],
-             "sun path, seen"),
-            ("line", [{"color": "black", "linewidth": 1.8, "linestyle": (0, (3, 2))},
-                      {"color": colours.SUN_PATH_COLOUR, "linewidth": 0.9, "linestyle": (0, (3, 2))}], "sun path, hidden"),
-            ("line", [{"color": "black", "linewidth": 1.8}, {"color": "white", "linewidth": 0.9, "linestyle": (0, (3, 2))}],
-             f"sun altitude {_fmt_num(min_altitude_deg)}°"),
-        ]
-        _legend(fig, cx + R + 22, cy + R, entries,
-                title=f"facing {_compass_name(view_azimuth_deg)} {_fmt_num(round(view_azimuth_deg % 360.0))}°")
-
-    return _render(draw, (FISHEYE_SIZE_IN[0] * 100, FISHEYE_SIZE_IN[1] * 100), fmt=fmt)
+    c.image(raster, (int(cx - R), int(cy - R), raster.shape[1], raster.shape[0]), palette=palette)
+    ring = np.linspace(0.0, 2.0 * math.pi, 121)  # 7 px chords: 0.05 px off the circle
+    line(np.cos(ring), np.sin(ring), stroke="black", lw=1.0, closed=True)
+    line([-1, 1], [0, 0], stroke="black", lw=0.5, alpha=0.6)  # horizon
+    # minimum sun altitude: the curve altitude = const within the field
+    az = view_azimuth_deg + np.linspace(-90.0, 90.0, 181)
+    mx, my = fisheye_xy(az, np.full_like(az, min_altitude_deg), view_azimuth_deg)
+    line(mx, my, stroke="black", lw=1.8)
+    line(mx, my, stroke="white", lw=0.9, dash=(3, 2))
+    marks: dict[str, list] = {}
+    hour_marks: list = []
+    placed: list[tuple[float, float]] = []  # the path labels drawn: (x [-1, 1], y [px] above the centre)
+    for p in sun_paths:  # one per day drawn
+        a = np.asarray(p["azimuth_deg"], dtype=float).reshape(-1)
+        h = np.asarray(p["altitude_deg"], dtype=float).reshape(-1)
+        vis = np.asarray(p["visible"], dtype=bool).reshape(-1)
+        x, y = fisheye_xy(a, h, view_azimuth_deg)
+        ok = (h >= 0) & (np.hypot(x, y) <= 1.0)
+        if not ok.any():
+            continue
+        # a segment i..i+1 is drawn when both ends are in the field; seen where both are seen
+        seg_ok = ok[:-1] & ok[1:]
+        seg_vis = seg_ok & vis[:-1] & vis[1:]
+        for seen, lw, casing, ls in ((False, 0.9, 1.8, (3, 2)), (True, 2.2, 3.6, None)):
+            runs = [(s0, e + 1) for s0, e in _runs(seg_vis if seen else seg_ok & ~seg_vis)]
+            if runs:
+                jx, jy = _nan_joined(x, y, runs)
+                line(jx, jy, stroke="black", lw=casing, dash=ls)
+                line(jx, jy, stroke=colours.SUN_PATH_COLOUR, lw=lw, dash=ls)
+        top = int(np.argmax(np.where(ok, y, -np.inf)))
+        if p.get("label"):
+            # a path whose top is at the rim (a window facing east or west) is labelled inwards, not
+            # over the picture's edge; a label on one already drawn goes under it
+            ha = "left" if x[top] < -LABEL_INWARD else "right" if x[top] > LABEL_INWARD else "center"
+            dy = 4.0
+            while any(abs(x[top] - ox) * R < LABEL_CLEAR_PX and abs(y[top] * R + dy * pt - oy) < 11 * pt for ox, oy in placed):
+                dy -= 11.0
+            placed.append((float(x[top]), float(y[top] * R + dy * pt)))
+            text(x[top], y[top], str(p["label"]), dy=dy, ha=ha, va="bottom", box=0.15)
+        hour_marks += list(p.get("hour_marks", ()))
+    if hour_marks:  # each hour's dots by its label, those above the horizon and in the field
+        ma, mh = np.array([[float(m[0]), float(m[1])] for m in hour_marks]).T
+        hx, hy = fisheye_xy(ma, mh, view_azimuth_deg)
+        for (_, _, lab), x_, y_, ok_ in zip(hour_marks, hx.tolist(), hy.tolist(), ((mh >= 0) & (np.hypot(hx, hy) <= 1.0)).tolist()):
+            if ok_:
+                marks.setdefault(str(lab), []).append((x_, y_))
+    # hour marks: a dot on each path, the same hour joined across the dates, labelled once below; a
+    # label that would touch the previous one kept is left out (at 8 pt an hour's label is wider
+    # than the hour's step near the horizon)
+    kept: list = []
+    dots = []
+    for lab, xy in marks.items():  # one per hour
+        xy_a = np.array(xy)
+        if len(xy_a) > 1:
+            line(xy_a[:, 0], xy_a[:, 1], stroke="black", lw=0.5)
+        dots.append(xy_a)
+        low = xy_a[int(np.argmin(xy_a[:, 1]))]
+        if all(abs(R * (low[0] - k[0])) > HOUR_LABEL_GAP_PX or abs(R * (low[1] - k[1])) > 14 for k in kept):
+            text(low[0], low[1], lab, dy=-4, ha="center", va="top", box=0.1)
+            kept.append(low)
+    # compass points on the horizon (at the rim where they fall on it)
+    for name, cmp in _COMPASS:
+        d = (cmp - view_azimuth_deg + 180.0) % 360.0 - 180.0
+        if abs(d) <= 90.0:
+            x = d / 90.0
+            line([x, x], [-0.03, 0.03], stroke="black", lw=0.8)
+            if abs(d) >= 85.0:
+                text(math.copysign(1.07, d), 0.0, name, ha="center", va="center", bold=True)
+            else:
+                text(x, -0.05, name, ha="center", va="top", bold=True, box=0.1)
+    text(0.0, 1.0, "zenith", dy=3, ha="center", va="bottom")
+    legend_order = (colours.CLASS_SKY, colours.CLASS_LANDSCAPE, colours.CLASS_GROUND, colours.BLOCKED)
+    entries = [("patch", colours.CLASS_COLOURS[k], colours.CLASS_NAMES[k]) for k in legend_order]
+    entries += [
+        ("line", [{"stroke": "black", "lw": 3.6}, {"stroke": colours.SUN_PATH_COLOUR, "lw": 2.2}], "sun path, seen"),
+        ("line", [{"stroke": "black", "lw": 1.8, "dash": (3, 2)}, {"stroke": colours.SUN_PATH_COLOUR, "lw": 0.9, "dash": (3, 2)}],
+         "sun path, hidden"),
+        ("line", [{"stroke": "black", "lw": 1.8}, {"stroke": "white", "lw": 0.9, "dash": (3, 2)}],
+         f"sun altitude {_fmt_num(min_altitude_deg)}°"),
+    ]
+    legend(c, cx + R + 22, cy + R, entries, title=f"facing {_compass_name(view_azimuth_deg)} {_fmt_num(round(view_azimuth_deg % 360.0))}°")
+    if dots:  # the hour marks' dots over every line
+        dot = np.vstack(dots)
+        c.markers(to_px(dot[:, 0], dot[:, 1]), 2.8, fill="black", stroke="white", lw=0.5)
+    return render(c, fmt)
 
 
 def _compass_name(azimuth_deg: float) -> str:

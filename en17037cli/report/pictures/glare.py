@@ -6,18 +6,12 @@ import math
 
 import numpy as np
 
-from en17037cli.report.pictures.canvas import (
-    MIN_FONT_PT,
-    _legend,
-    _north_arrow,
-    _render,
-    _scale_bar,
-    _scale_bar_m,
-    image_at,
-    layout_px,
-)
+from en17037cli.report.pictures.canvas import MIN_FONT_PT, Canvas, _scale_bar_m
+from en17037cli.report.pictures.colourmaps import lookup
 from en17037cli.report.pictures.colours import LEVEL_COLOURS, LEVEL_NAMES, WINDOW_COLOUR, _rgb
+from en17037cli.report.pictures.parts import arrow, legend, north_arrow, scale_bar
 from en17037cli.report.pictures.plan import PLAN_BOX_PX, PLAN_SIZE_IN, _rot, plan_rotation
+from en17037cli.report.pictures.raster import render
 
 #: The DGP classes of the carpet, low to high: below high's limit, then each limit to the next (the
 #: level a view keeps if the hour were its 5 % hour), above minimum's; light to dark.
@@ -58,35 +52,25 @@ def positions_map(floor, windows, eyes_xy, directions_xy, levels, labels, *, tru
     ox, oy = bx0 + bw / 2, by0 + bh / 2 + 15.0
     lv = np.asarray(levels, dtype=int)
 
-    def draw(fig):
-        from matplotlib.lines import Line2D
-        from matplotlib.patches import FancyArrowPatch, Polygon
-        from matplotlib.transforms import Affine2D
-
-        T = Affine2D().translate(-mid[0], -mid[1]).scale(scale).translate(ox, oy) + layout_px(fig)
-        fig.add_artist(Polygon(floor_t, closed=True, fill=False, edgecolor="black", linewidth=1.2, transform=T))
-        for w in win_t:
-            for colour, lw in (("black", 5.0), (WINDOW_COLOUR, 3.0)):
-                fig.add_artist(Line2D(w[:, 0], w[:, 1], color=colour, linewidth=lw, solid_capstyle="butt", transform=T))
-        for k, (e, d) in enumerate(zip(eyes_t, dirs_t)):  # a few views per room
-            tip = e + arrow_m * d
-            fig.add_artist(FancyArrowPatch(tuple(e), tuple(tip), arrowstyle="-|>", mutation_scale=9, linewidth=2.6,
-                                           color="black", transform=T))
-            fig.add_artist(FancyArrowPatch(tuple(e), tuple(tip), arrowstyle="-|>", mutation_scale=7, linewidth=1.4,
-                                           color=LEVEL_COLOURS[int(np.clip(lv[k], 0, 3))], transform=T))
-            lab = e + (arrow_m + 0.06 * size) * d
-            fig.text(lab[0], lab[1], labels[k], ha="center", va="center", fontsize=MIN_FONT_PT, transform=T)
-        if len(eyes_t):
-            fig.add_artist(Line2D(eyes_t[:, 0], eyes_t[:, 1], linestyle="none", marker="o", markersize=4, color="black",
-                                  transform=T))
-        sb = _scale_bar_m(float(hi[0] - lo[0]))
-        _scale_bar(fig, round(ox + (lo[0] - mid[0]) * scale), round(oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0),
-                   round(sb * scale), sb)
-        _north_arrow(fig, (462.0, 320.0), north)
-        _legend(fig, 232.0, 268.0, [("patch", LEVEL_COLOURS[i], LEVEL_NAMES[i]) for i in reversed(range(4))],
-                title="level of the view")
-
-    return _render(draw, (PLAN_SIZE_IN[0] * 100, PLAN_SIZE_IN[1] * 100), fmt=fmt)
+    c = Canvas(int(PLAN_SIZE_IN[0] * 100), int(PLAN_SIZE_IN[1] * 100))
+    to_px = lambda p: (np.asarray(p, dtype=float).reshape(-1, 2) - mid) * scale + (ox, oy)  # noqa: E731 - metres -> layout px
+    c.path(to_px(floor_t), stroke="black", lw=1.2, closed=True)
+    for w in win_t:  # one per window
+        for colour, lw in (("black", 5.0), (WINDOW_COLOUR, 3.0)):
+            c.path(to_px(w), stroke=colour, lw=lw)
+    for k, (e, d) in enumerate(zip(eyes_t, dirs_t)):  # a few views per room
+        tail, tip = to_px(e)[0], to_px(e + arrow_m * d)[0]
+        arrow(c, tail, tip, lw=2.6, head=9)
+        arrow(c, tail, tip, colour=LEVEL_COLOURS[int(np.clip(lv[k], 0, 3))], lw=1.4, head=7)
+        lab = to_px(e + (arrow_m + 0.06 * size) * d)[0]
+        c.text(lab[0], lab[1], labels[k], ha="center", va="center")
+    sb = _scale_bar_m(float(hi[0] - lo[0]))
+    scale_bar(c, round(ox + (lo[0] - mid[0]) * scale), round(oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0), round(sb * scale), sb)
+    north_arrow(c, (462.0, 320.0), north)
+    legend(c, 232.0, 268.0, [("patch", LEVEL_COLOURS[i], LEVEL_NAMES[i]) for i in reversed(range(4))], title="level of the view")
+    if len(eyes_t):
+        c.markers(to_px(eyes_t), 4, fill="black", stroke="black", lw=1.0)
+    return render(c, fmt)
 
 
 def dgp_classes(dgp, limits: dict) -> np.ndarray:
@@ -123,29 +107,22 @@ def dgp_carpet(local_times, dgp, *, limits: dict, title: str = "", fmt: str = "p
     firsts = np.flatnonzero(np.concatenate([[True], months[1:] != months[:-1]])) if len(days) else np.zeros(0, int)
     box = (52.0, 96.0, 430.0, 200.0)
 
-    def draw(fig):
-        from matplotlib.patches import Rectangle
-
-        px = layout_px(fig)
-        image_at(fig, rgb, box)
-        fig.add_artist(Rectangle(box[:2], box[2], box[3], fill=False, edgecolor="black", linewidth=0.6, transform=px))
-        step = max(1, (h1 - h0) // 5)
-        for hh in range(h0, h1 + 1, step):
-            y = box[1] + (hh - h0) / (h1 - h0) * box[3]
-            fig.text(box[0] - 4, y, f"{hh:02d}:00", ha="right", va="center", fontsize=MIN_FONT_PT, transform=px)
-        for k, i in enumerate(firsts):  # the month of each first usage day, every other month named
-            x = box[0] + i / ndays * box[2]
-            fig.add_artist(Rectangle((x, box[1] - 4), 0.01, 4, edgecolor="black", linewidth=0.6, transform=px))
-            if k % 2 == 0:
-                fig.text(x, box[1] - 6, _MONTHS[int(str(months[i])[5:7]) - 1], ha="left", va="top", fontsize=MIN_FONT_PT,
-                         transform=px)
-        fig.text(box[0], box[1] - 22, f"usage days of {str(days[0])[:4] if len(days) else ''} across, clock time up",
-                 ha="left", va="top", fontsize=MIN_FONT_PT, transform=px)
-        entries = [("patch", DGP_CLASS_COLOURS[i], f"DGP {lab[i]}: {counts[i]} h") for i in range(4)]
-        _legend(fig, box[0], 46.0, entries[:2])
-        _legend(fig, box[0] + 215.0, 46.0, entries[2:])
-
-    return _render(draw, (CARPET_SIZE_IN[0] * 100, CARPET_SIZE_IN[1] * 100), fmt=fmt)
+    c = Canvas(int(CARPET_SIZE_IN[0] * 100), int(CARPET_SIZE_IN[1] * 100))
+    c.image(rgb, (int(box[0]), int(box[1]), int(box[2]), int(box[3])))
+    c.rect(*box, stroke="black", lw=0.6)
+    step = max(1, (h1 - h0) // 5)
+    for hh in range(h0, h1 + 1, step):  # a few clock hours
+        c.text(box[0] - 4, box[1] + (hh - h0) / (h1 - h0) * box[3], f"{hh:02d}:00", ha="right", va="center")
+    for k, i in enumerate(firsts):  # the month of each first usage day, every other month named
+        x = box[0] + i / ndays * box[2]
+        c.path(np.array([[x, box[1] - 4], [x, box[1]]]), stroke="black", lw=0.6)
+        if k % 2 == 0:
+            c.text(x, box[1] - 6, _MONTHS[int(str(months[i])[5:7]) - 1], ha="left", va="top")
+    c.text(box[0], box[1] - 22, f"usage days of {str(days[0])[:4] if len(days) else ''} across, clock time up", ha="left", va="top")
+    entries = [("patch", DGP_CLASS_COLOURS[i], f"DGP {lab[i]}: {counts[i]} h") for i in range(4)]
+    legend(c, box[0], 46.0, entries[:2])
+    legend(c, box[0] + 215.0, 46.0, entries[2:])
+    return render(c, fmt)
 
 
 _MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
@@ -159,23 +136,18 @@ def luminance_fisheye(luminance, *, title: str = "", fmt: str = "png"):
     ----------
     luminance : (rows, cols) [cd/m²], top row first (angular fisheye, -vta)
     """
-    import matplotlib
-
     lum = np.asarray(luminance, dtype=float)
     t = (np.log10(np.clip(lum, 10.0, 1e6)) - 1.0) / 5.0
-    rgb = np.round(np.asarray(matplotlib.colormaps["viridis"](t))[..., :3] * 255).astype(np.uint8)
+    rgb = lookup("viridis", t)
     ny, nx = lum.shape
     yy, xx = np.mgrid[0:ny, 0:nx]
     outside = np.hypot((xx + 0.5) / nx * 2 - 1, (yy + 0.5) / ny * 2 - 1) > 1
     rgb[outside] = 255
-    bar = np.round(np.asarray(matplotlib.colormaps["viridis"]((np.arange(200)[::-1] + 0.5) / 200))[:, :3] * 255).astype(np.uint8)
-
-    def draw(fig):
-        px = layout_px(fig)
-        image_at(fig, rgb, (10.0, 20.0, 320.0, 320.0))
-        image_at(fig, bar[:, None, :], (350.0, 60.0, 14.0, 240.0))
-        for k in range(6):
-            fig.text(370.0, 60.0 + k * 48.0, f"10{'⁰¹²³⁴⁵⁶'[k + 1]}", ha="left", va="center", fontsize=MIN_FONT_PT, transform=px)
-        fig.text(350.0, 310.0, "cd/m²", ha="left", va="bottom", fontsize=MIN_FONT_PT, transform=px)
-
-    return _render(draw, (LUMINANCE_SIZE_IN[0] * 100, LUMINANCE_SIZE_IN[1] * 100), fmt=fmt)
+    bar = lookup("viridis", (np.arange(200)[::-1] + 0.5) / 200)
+    c = Canvas(int(LUMINANCE_SIZE_IN[0] * 100), int(LUMINANCE_SIZE_IN[1] * 100))
+    c.image(rgb, (10, 20, 320, 320))
+    c.image(bar[:, None, :], (350, 60, 14, 240))
+    for k in range(6):
+        c.text(370.0, 60.0 + k * 48.0, f"10{'⁰¹²³⁴⁵⁶'[k + 1]}", ha="left", va="center", size=MIN_FONT_PT)
+    c.text(350.0, 310.0, "cd/m²", ha="left", va="bottom")
+    return render(c, fmt)

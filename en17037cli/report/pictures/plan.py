@@ -1,11 +1,12 @@
 """Plan maps: a room's viewpoints as coloured cells on its floor plan, drawn in the room's own orientation."""
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
-from en17037cli.report.pictures.canvas import _colour_bar, _legend, _north_arrow, _render, _scale_bar, _scale_bar_m, layout_px
+from en17037cli.report.pictures.canvas import Canvas, _scale_bar_m
 from en17037cli.report.pictures.colours import (
     LAYER_COLOURS,
     LAYER_ORDER,
@@ -17,6 +18,8 @@ from en17037cli.report.pictures.colours import (
     _rgb,
     continuous_colours,
 )
+from en17037cli.report.pictures.parts import colour_bar, legend, north_arrow, scale_bar
+from en17037cli.report.pictures.raster import render
 
 #: Layout size [in / 100 px] (width, height); printed at PRINT_SCALE of it (3.5 x 2.8 in).
 PLAN_SIZE_IN = (5.0, 3.6)
@@ -90,6 +93,22 @@ def plan_rotation(floor, windows=()) -> float:
     return _canonical_deg(best)
 
 
+@functools.lru_cache(maxsize=16)
+def _rotation_of(floor: bytes, windows: bytes) -> float:
+    """:func:`plan_rotation` of a floor and windows given as the bytes of their float arrays, kept:
+    a room's maps (four per eye height, its daylight map) share them."""
+    return plan_rotation(np.frombuffer(floor).reshape(-1, 2), list(np.frombuffer(windows).reshape(-1, 2, 2)))
+
+
+@functools.lru_cache(maxsize=16)
+def _squares_of(points: bytes, spacing_m: float | None) -> np.ndarray:
+    """:func:`_cell_squares` of points given as the bytes of their (n, 2) float array, kept (read only):
+    the maps of one eye height share them."""
+    out = _cell_squares(np.frombuffer(points).reshape(-1, 2), spacing_m)
+    out.flags.writeable = False
+    return out
+
+
 def _nearest_neighbour(points: np.ndarray, sample: int = 256) -> tuple[np.ndarray, np.ndarray]:
     """Distance [m] and offset (k, 2) [m] from up to ``sample`` evenly spread points to their nearest other point.
 
@@ -151,7 +170,7 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     near : (n,) bool, optional; points within their error estimate of a threshold (ringed)
     spacing_m : float [m], optional; cell side, default the median nearest-neighbour distance
     title : str, not drawn: the reports caption the picture (kept for callers)
-    fmt : "png", "svg" or "both" (see :func:`~en17037cli.report.pictures.canvas._render`)
+    fmt : "png", "svg" or "both" (see :meth:`~en17037cli.report.pictures.canvas.Canvas.render`)
 
     Returns
     -------
@@ -168,20 +187,20 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     near_m = None if near is None else np.asarray(near, dtype=bool).reshape(-1)
     floor_r = np.asarray(floor, dtype=float).reshape(-1, 2)
     win = [np.asarray(w, dtype=float).reshape(2, 2) for w in (windows or ())]
-    angle = plan_rotation(floor_r, win)
+    angle = _rotation_of(floor_r.tobytes(), b"".join(w.tobytes() for w in win))
     r = _rot(angle)
     centre = floor_r.mean(axis=0)  # a point of the room, whatever the model's axes
     # rounded to a nanometre: the same room in another model frame then gives the same coordinates,
-    # so Agg snaps the same edges to pixels (an edge 1e-15 off the horizontal is not snapped)
+    # so the same pixels are filled (a cell edge through pixel centres is not moved by 1e-15)
     tf = lambda p: np.round((np.asarray(p, dtype=float).reshape(-1, 2) - centre) @ r.T, 9)
     floor_t = tf(floor_r)
     util_t = None if utilised is None else tf(utilised)
     win_t = [tf(w) for w in win]
     pts_t = tf(pts)
-    squares = _cell_squares(pts_t, spacing_m)
+    squares = _squares_of(pts_t.tobytes(), spacing_m)
     north = r @ np.array([math.sin(math.radians(true_north_deg)), math.cos(math.radians(true_north_deg))])
 
-    faces, legend, bar = _plan_colours(kind, vals, thresholds)
+    faces, legend_entries, bar = _plan_colours(kind, vals, thresholds)
     ok = np.all(np.isfinite(faces), axis=1)
     allxy = np.vstack([floor_t, squares.reshape(-1, 2)] + ([util_t] if util_t is not None else []) + win_t)
     lo, hi = allxy.min(axis=0), allxy.max(axis=0)
@@ -193,45 +212,42 @@ def plan_map(points_xy, values, *, kind: str, thresholds: dict | None, floor, ut
     ox, oy = bx0 + bw / 2, by0 + bh / 2 + 0.5 * bar_px
     has_near = near_m is not None and bool(near_m.any())
 
-    def draw(fig):
-        from matplotlib.collections import PolyCollection
-        from matplotlib.lines import Line2D
-        from matplotlib.patches import Polygon
-        from matplotlib.transforms import Affine2D
-
-        T = Affine2D().translate(-mid[0], -mid[1]).scale(scale).translate(ox, oy) + layout_px(fig)
-        if ok.any():
-            # not anti-aliased: neighbouring cells share their edges without a light seam
-            fig.add_artist(PolyCollection(squares[ok], facecolors=faces[ok], edgecolors="none", antialiased=False, transform=T))
-        if (~ok).any():
-            fig.add_artist(PolyCollection(squares[~ok], facecolors="none", edgecolors="#999999", linewidths=0.5, transform=T))
-        fig.add_artist(Polygon(floor_t, closed=True, fill=False, edgecolor="black", linewidth=1.2, transform=T))
-        if util_t is not None:
-            fig.add_artist(Polygon(util_t, closed=True, fill=False, edgecolor="black", linewidth=0.8, linestyle=(0, (4, 3)), transform=T))
-        for w in win_t:
-            for colour, lw in (("black", 5.0), (WINDOW_COLOUR, 3.0)):
-                fig.add_artist(Line2D(w[:, 0], w[:, 1], color=colour, linewidth=lw, solid_capstyle="butt", transform=T))
-        if has_near:
-            for colour, mew in (("white", 2.0), ("black", 0.9)):
-                fig.add_artist(Line2D(pts_t[near_m, 0], pts_t[near_m, 1], linestyle="none", marker="o", markersize=5,
-                                      markerfacecolor="none", markeredgecolor=colour, markeredgewidth=mew, transform=T))
-        # scale bar under the plan: two halves, black and white
-        sb = _scale_bar_m(float(hi[0] - lo[0]))
-        # on whole pixels, so that rounding in the plan's extent does not shade it differently
-        x0, y0, L = round(ox + (lo[0] - mid[0]) * scale), round(oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0), round(sb * scale)
-        _scale_bar(fig, x0, y0, L, sb)
-        _north_arrow(fig, (462.0, 320.0), north)
-        near_entry = [("marker", {"marker": "o", "markersize": 5, "markerfacecolor": "none", "markeredgecolor": "black"},
-                       "within error of a threshold")] if has_near else []
-        if bar is not None:
-            _colour_bar(fig, COLOUR_BAR_PX, *bar)
-            if near_entry:
-                _legend(fig, 232.0, 30.0, near_entry)
-        else:
-            _legend(fig, 232.0, 268.0, [("patch", c, lab) for c, lab in legend] + near_entry,
-                    title="level" if kind == "level" else "layers seen")
-
-    return _render(draw, (PLAN_SIZE_IN[0] * 100, PLAN_SIZE_IN[1] * 100), fmt=fmt)
+    c = Canvas(int(PLAN_SIZE_IN[0] * 100), int(PLAN_SIZE_IN[1] * 100))
+    to_px = lambda p: (np.asarray(p, dtype=float) - mid) * scale + (ox, oy)  # noqa: E731 - metres of the plan -> layout px
+    if ok.any():
+        # not anti-aliased: neighbouring cells share their edges without a light seam
+        c.cells(to_px(squares[ok]), np.round(faces[ok, :3] * 255).astype(np.uint8))
+    if (~ok).any():  # an empty cell: a grey square with a white one 1 px inside it
+        empty = to_px(squares[~ok])
+        c.cells(empty, np.full((len(empty), 3), 0x99, dtype=np.uint8))
+        side = float(np.hypot(*(empty[0, 1] - empty[0, 0])))
+        if side > 3.0:
+            mean = empty.mean(axis=1, keepdims=True)
+            c.cells(mean + (empty - mean) * (1.0 - 2.0 / side), np.full((len(empty), 3), 0xFF, dtype=np.uint8))
+    c.path(to_px(floor_t), stroke="black", lw=1.2, closed=True)
+    if util_t is not None:
+        c.path(to_px(util_t), stroke="black", lw=0.8, closed=True, dash=(4, 3))
+    for w in win_t:  # one per window
+        for colour, lw in (("black", 5.0), (WINDOW_COLOUR, 3.0)):
+            c.path(to_px(w), stroke=colour, lw=lw)
+    # scale bar under the plan: two halves, black and white
+    sb = _scale_bar_m(float(hi[0] - lo[0]))
+    # on whole pixels, so that rounding in the plan's extent does not shade it differently
+    x0, y0, L = round(ox + (lo[0] - mid[0]) * scale), round(oy - 0.5 * (hi[1] - lo[1]) * scale - 22.0), round(sb * scale)
+    scale_bar(c, x0, y0, L, sb)
+    north_arrow(c, (462.0, 320.0), north)
+    near_entry = [("marker", {"size": 5, "stroke": "black", "lw": 1.0}, "within error of a threshold")] if has_near else []
+    if bar is not None:
+        colour_bar(c, COLOUR_BAR_PX, *bar)
+        if near_entry:
+            legend(c, 232.0, 30.0, near_entry)
+    else:
+        legend(c, 232.0, 268.0, [("patch", col, lab) for col, lab in legend_entries] + near_entry,
+               title="level" if kind == "level" else "layers seen")
+    if has_near:  # rings last: one pass of markers over the paths
+        for colour, mew in (("white", 2.0), ("black", 0.9)):
+            c.markers(to_px(pts_t[near_m]), 5, stroke=colour, lw=mew)
+    return render(c, fmt)
 
 
 def _plan_colours(kind: str, vals: np.ndarray, thresholds: dict | None):
