@@ -31,23 +31,28 @@ def _quad_y(y, x0, x1, z0, z1):
 
 
 def _engine(polys: dict, layers: dict, normal=(0.0, -1.0, 0.0)):
-    """Ray engine, view rays and room geometry of named quads (``glazing`` the one window, facing
-    ``normal``); ``layers`` gives each other name's layer (INTERIOR: blocks; GROUND: ground)."""
-    tris, layer = [], []
+    """Ray engine, view rays and room geometry of named quads: each name starting with ``glazing`` one
+    window facing ``normal`` (in the order given); ``layers`` gives each other name's layer (INTERIOR:
+    blocks; GROUND: ground; LANDSCAPE: landscape)."""
+    tris, layer, wname = [], [], []
     for name, quads in polys.items():
         for q in quads:
             q = np.asarray(q, float)
             for k in range(1, len(q) - 1):
                 tris.append([q[0], q[k], q[k + 1]])
-                layer.append(WINDOW if name == "glazing" else layers[name])
-    tris, layer = np.array(tris), np.array(layer)
+                layer.append(WINDOW if name.startswith("glazing") else layers[name])
+                wname.append(name)
+    tris, layer, wname = np.array(tris), np.array(layer), np.array(wname)
     win = np.flatnonzero(layer == WINDOW)
     engine = RayEngine(tris.reshape(-1, 3), np.arange(3 * len(tris)).reshape(-1, 3),
                        {"opaque": layer != WINDOW, "win": win})
-    w = Window("glazing", 0, win, tris[win], np.asarray(normal, float), 0.0)
-    wof = np.full(len(tris), -1)
-    wof[win] = 0
-    rg = RoomGeometry([window_frame(w, 0)], wof, tris[win], np.zeros(len(win), int), "win")
+    names = [n for n in polys if n.startswith("glazing")]
+    frames, wof = [], np.full(len(tris), -1)
+    for i, n in enumerate(names):
+        ids = np.flatnonzero(wname == n)
+        frames.append(window_frame(Window(n, i, ids, tris[ids], np.asarray(normal, float), 0.0), i))
+        wof[ids] = i
+    rg = RoomGeometry(frames, wof, tris[win], wof[win], "win")
     return engine, ViewRays(engine, SimpleNamespace(layer=layer)), rg
 
 
@@ -297,4 +302,83 @@ def test_a_cell_is_split_when_its_midpoint_weight_exceeds_the_budget():
     for factor, cells in ((1.0005, 1), (0.9995, 4)):
         tol = SkyTolerance(resolution_deg=10.0, refine_levels=1, rel_tolerance=factor, abs_tolerance=0.0)
         assert sky_component(vr, rg, np.zeros((1, 3)), np.array([1.0]), tol).cells.tolist() == [cells]
+    engine.close()
+
+
+def test_a_receiving_plane_facing_down_gets_no_sky():
+    engine, vr, rg = _engine(PANE, {"ground": INTERIOR})
+    sc = sky_component(vr, rg, POINTS, np.array([0.7]), normal=(0.0, 0.0, -1.0))
+    assert sc.value.tolist() == [0.0] * 3 and sc.bound.tolist() == [0.0] * 3
+    engine.close()
+
+
+def test_each_window_weighs_by_its_own_glass():
+    from en17037cli.criteria.daylight.sky_component import cell_integrals
+
+    axes = np.array([[[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]] * 2)  # a south pane's u, v, n
+    G = np.array([[-0.3, 0.2, 0.1, 0.4]] * 2)
+    both, qb = cell_integrals(axes, np.array([0.7, 1.0]), G)
+    for k, tv in enumerate((0.7, 1.0)):
+        one, q1 = cell_integrals(axes[k:k + 1], np.array([tv]), G[k:k + 1])
+        assert both[k] == pytest.approx(one[0], rel=1e-14) and qb[k] == pytest.approx(q1[0], rel=1e-14)
+    assert both[0] < 0.9 * both[1]  # clear glass of tv 0.7 lets through less than an open opening
+
+
+def _triangle_solid_angle(a, b, c):
+    """Solid angle [sr] of the triangle a, b, c seen from the origin (Van Oosterom & Strackee 1983)."""
+    la, lb, lc = (np.linalg.norm(x) for x in (a, b, c))
+    num = abs(np.dot(a, np.cross(b, c)))
+    den = la * lb * lc + np.dot(a, b) * lc + np.dot(a, c) * lb + np.dot(b, c) * la
+    return 2.0 * np.arctan2(num, den)
+
+
+def test_a_cell_cut_by_the_outline_weighs_its_part_inside():
+    # a triangular roof light 3 m up, one base cell (10 deg): the cell's Gauss integral scaled by the
+    # triangle's solid angle over the cell's (the outline's bounding rectangle), and its bound the
+    # scaled error estimate plus the integrand's range at the nodes times the triangle's solid angle
+    from en17037cli.criteria.daylight.sky_component import cell_integrals
+
+    tri = np.array([(-0.2, -0.1, 3.0), (0.2, -0.1, 3.0), (0.05, 0.1, 3.0)])  # acute: one bounding rectangle
+    polys = {"glazing": [tri]}
+    engine, vr, rg = _engine(polys, {}, normal=(0.0, 0.0, 1.0))
+    f = rg.frames[0]
+    d = float(f.origin @ f.n)  # the point at the origin, the light's plane at this distance along n
+    x0, y0 = -(f.origin @ f.u), -(f.origin @ f.v)
+    G = np.array([[np.arctan((f.xmin - x0) / d), np.arctan((f.xmax - x0) / d),
+                   np.arctan((f.ymin - y0) / d), np.arctan((f.ymax - y0) / d)]])
+    X0, X1, Y0, Y1 = np.tan(G[0])
+    # the rectangle's solid angle by its corners: two triangles, each by the closed form
+    corners = [d * f.n + X * d * f.u + Y * d * f.v for X, Y in ((X0, Y0), (X1, Y0), (X1, Y1), (X0, Y1))]
+    rect = _triangle_solid_angle(corners[0], corners[1], corners[2]) + _triangle_solid_angle(corners[0], corners[2], corners[3])
+    w = _triangle_solid_angle(*tri)
+    assert 0.4 < w / rect < 0.6
+    for normal in ((0.0, 0.0, 1.0), (0.6, 0.0, 0.8)):
+        axes = np.stack([f.u, f.v, f.n])[None]
+        val, qerr, gmin, gmax = cell_integrals(axes, np.array([1.0]), G, normal, extremes=True)
+        sc = sky_component(vr, rg, np.zeros((1, 3)), np.array([1.0]), SkyTolerance(resolution_deg=10.0, refine_levels=0),
+                           normal=normal)
+        assert sc.cells.tolist() == [1]
+        assert sc.value[0] == pytest.approx(val[0] * w / rect * SC_PER_SR, rel=1e-9)
+        assert sc.bound[0] == pytest.approx((qerr[0] * w / rect + w * (gmax[0] - gmin[0])) * SC_PER_SR, rel=1e-9)
+    engine.close()
+
+
+def test_the_budget_is_what_the_tolerance_leaves_beside_the_final_cells():
+    # two roof lights side by side: one clear (all sky, final at once: its bound, the Gauss rule's error
+    # estimate q, is spent), one under the square (mixed: 3/4 of its midpoint weight m to decide by). The
+    # mixed one stays if q + 3/4 m fits the tolerance, else it is split
+    from en17037cli.criteria.daylight.sky_component import cell_integrals
+
+    clear = [(0.5, -0.1, 3.0), (0.7, -0.1, 3.0), (0.7, 0.1, 3.0), (0.5, 0.1, 3.0)]
+    engine, vr, rg = _engine(dict(ROOF, glazing2=[clear]), {"bar": INTERIOR}, normal=(0.0, 0.0, 1.0))
+    f = rg.frames[1]
+    d = float(f.origin @ f.n)
+    x0, y0 = -(f.origin @ f.u), -(f.origin @ f.v)
+    G = np.array([[np.arctan((f.xmin - x0) / d), np.arctan((f.xmax - x0) / d),
+                   np.arctan((f.ymin - y0) / d), np.arctan((f.ymax - y0) / d)]])
+    _, q = cell_integrals(np.stack([f.u, f.v, f.n])[None], np.array([1.0]), G)
+    m = 0.75 * (2.0 * np.arctan(1.0 / 30.0)) ** 2
+    for extra, cells in ((0.5, 1 + 4), (1.5, 1 + 1)):
+        tol = SkyTolerance(resolution_deg=10.0, refine_levels=1, rel_tolerance=0.0, abs_tolerance=(m + extra * q[0]) * SC_PER_SR)
+        assert sky_component(vr, rg, np.zeros((1, 3)), np.array([1.0, 1.0]), tol).cells.tolist() == [cells]
     engine.close()
