@@ -1,2 +1,0 @@
-"""Mutation tests (docs/mutation.md): placeholder, filled below."""
-from __future__ import annotations
