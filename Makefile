@@ -31,31 +31,40 @@ test: lint
 	$(PY) -m pytest
 
 # Mutation testing of the numeric core (docs/mutation.md); not part of `make test` or CI. In groups
-# (MUTATE=core, view, sun, scene, daylight or glare: each under two hours on 2 cores; the whole set,
-# MUTATE=all, about four hours; docs/mutation.md has each group's time). A group's run keeps the other
-# groups' results (mutants/); MUTATE=all starts afresh. pvlib (the independent SPA of
+# (MUTATE=core, view, sun, scene, daylight or glare; docs/mutation.md has each group's time; the whole
+# set, MUTATE=all, takes several hours on 2 cores). A group's run keeps the other groups' results
+# (mutants/); MUTATE=all starts afresh. CHANGED=1 mutates only the modules of the selection that
+# changed since the commit of docs/mutation.md's table (scripts/mutation_report.py --changed), so a
+# change to a numeric module comes with its row re-measured. pvlib (the independent SPA of
 # tests/test_mutants_spa.py) comes with the test extra.
 MUTATION_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 MUTATE ?= all
 MUTANTS_core := en17037cli.criteria.sunlight.solar_position.* en17037cli.criteria.sunlight.intervals.* \
-  en17037cli.criteria.sunlight.visibility.* en17037cli.criteria.sunlight.point_p.* en17037cli.geometry.solid_angle.* \
-  en17037cli.geometry.planar.* en17037cli.criteria.view.sight_angle.* en17037cli.criteria.view.distance.* \
-  en17037cli.criteria.view.solid_angle.* en17037cli.criteria.view.sampler.* \
-  en17037cli.criteria.view.cells.* en17037cli.criteria.view.edges.* en17037cli.criteria.view.refine.* en17037cli.standard.* en17037cli.bisection.*
-MUTANTS_view := en17037cli.criteria.view.plan.*
+  en17037cli.criteria.sunlight.visibility.* en17037cli.criteria.sunlight.point_p.* \
+  en17037cli.criteria.sunlight.member_at_p.* en17037cli.standard.* en17037cli.bisection.* \
+  en17037cli.criteria.view.sight_angle.* en17037cli.criteria.view.distance.* en17037cli.criteria.view.plan.* \
+  en17037cli.criteria.view.wedge.*
+MUTANTS_view := en17037cli.criteria.view.solid_angle.* en17037cli.criteria.view.decide.* \
+  en17037cli.criteria.view.clip.* en17037cli.criteria.view.cells.* en17037cli.criteria.view.refine.* \
+  en17037cli.criteria.view.edges.* en17037cli.criteria.view.sampler.* en17037cli.criteria.view.gnomonic.* \
+  en17037cli.geometry.solid_angle.* en17037cli.geometry.planar.*
 MUTANTS_sun := en17037cli.criteria.sunlight.exact.* en17037cli.criteria.sunlight.culling.*
-MUTANTS_scene := en17037cli.scene.spaces.* en17037cli.scene.hosts.* en17037cli.io.ifc_glazing.* en17037cli.io.citygml.crs.*
+MUTANTS_scene := en17037cli.scene.spaces.* en17037cli.scene.hosts.* en17037cli.scene.section.* \
+  en17037cli.scene.rooms.* en17037cli.scene.auto_rooms.* en17037cli.scene.levels.* en17037cli.scene.openings.* \
+  en17037cli.scene.quarantine.* en17037cli.io.ifc_glazing.* en17037cli.io.citygml.crs.*
 MUTANTS_daylight := en17037cli.criteria.daylight.*
 MUTANTS_glare := en17037cli.criteria.glare.*
 mutation: $(STAMP)
 	$(PY) -m pip install --quiet 'mutmut>=3.2,<4'
 	@case "$(MUTATE)" in all|core|view|sun|scene|daylight|glare) ;; \
 	  *) echo "MUTATE=$(MUTATE): one of all, core, view, sun, scene, daylight, glare"; exit 2;; esac
-	$(if $(filter all,$(MUTATE)),rm -rf mutants,@true)
-	@start=$$(date +%s); \
-	  $(VENV)/bin/mutmut run --max-children $(MUTATION_JOBS) $(if $(filter all,$(MUTATE)),,$(foreach m,$(MUTANTS_$(MUTATE)),'$(m)')) \
-	    > mutation-run-$(MUTATE).log 2>&1; code=$$?; \
-	  echo "mutmut run ($(MUTATE)): exit $$code, $$(( ($$(date +%s) - start) / 60 )) min on $(MUTATION_JOBS) jobs (log: mutation-run-$(MUTATE).log)"
+	$(if $(CHANGED),@true,$(if $(filter all,$(MUTATE)),rm -rf mutants,@true))
+	@names="$(if $(CHANGED),$$($(PY) scripts/mutation_report.py --changed),$(if $(filter all,$(MUTATE)),,$(foreach m,$(MUTANTS_$(MUTATE)),'$(m)')))"; \
+	  if [ -n "$(CHANGED)" ] && [ -z "$$names" ]; then echo "no module of the selection changed since the table's commit"; exit 0; fi; \
+	  log=mutation-run-$(if $(CHANGED),changed,$(MUTATE)).log; start=$$(date +%s); \
+	  echo "mutmut run --max-children $(MUTATION_JOBS) $$names"; \
+	  eval "$(VENV)/bin/mutmut run --max-children $(MUTATION_JOBS) $$names" > $$log 2>&1; code=$$?; \
+	  echo "mutmut run: exit $$code, $$(( ($$(date +%s) - start) / 60 )) min on $(MUTATION_JOBS) jobs (log: $$log)"
 	$(PY) scripts/mutation_report.py --no-diff
 
 # The README's table of real exports (docs/bim.md): every IFC, gbXML, CityGML and CityJSON file of

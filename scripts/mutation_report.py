@@ -10,7 +10,12 @@ With ``--modules`` it prints instead a Markdown table per module (mutants, kille
 no test, survived, score), the table docs/mutation.md keeps; ``--only PREFIX`` keeps the modules whose
 dotted name starts with PREFIX (a group of the Makefile's MUTATE, e.g. ``en17037cli.criteria.daylight``).
 
-Usage: python scripts/mutation_report.py [--no-diff] [--modules] [--only PREFIX ...]
+With ``--changed`` it prints instead mutmut's name patterns (``'en17037cli.module.*'``, shell-quoted)
+of the modules of the selection (pyproject's ``only_mutate``) whose file differs from the commit of
+docs/mutation.md's table (its line ``Table commit: `<sha>` ``), working tree included: what
+``make mutation CHANGED=1`` re-runs.
+
+Usage: python scripts/mutation_report.py [--no-diff] [--modules] [--only PREFIX ...] [--changed]
 """
 from __future__ import annotations
 
@@ -18,6 +23,7 @@ import json
 import re
 import subprocess
 import sys
+import tomllib
 from collections import Counter
 from pathlib import Path
 
@@ -76,7 +82,27 @@ def _row(name: str, c: Counter) -> str:
             f"{c['not checked']} | {score} |")
 
 
+def table_commit(doc: Path) -> str:
+    """The commit docs/mutation.md's table was measured on (its line ``Table commit: `<sha>` ``)."""
+    m = re.search(r"^Table commit: `([0-9a-f]{7,40})`", doc.read_text(encoding="utf-8"), re.M)
+    if not m:
+        raise SystemExit(f"{doc}: no line 'Table commit: `<sha>`': say which commit the table was measured on")
+    return m.group(1)
+
+
+def changed_patterns(root: Path) -> list[str]:
+    """mutmut name patterns of the selected modules whose file changed since the table's commit."""
+    files = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["mutmut"]["only_mutate"]
+    commit = table_commit(root / "docs" / "mutation.md")
+    out = subprocess.run(["git", "diff", "--name-only", commit, "--", *files], cwd=root,
+                         capture_output=True, text=True, check=True).stdout.split()
+    return [f"'{f[:-3].replace('/', '.')}.*'" for f in files if f in out]
+
+
 def main() -> int:
+    if "--changed" in sys.argv:
+        print(" ".join(changed_patterns(ROOT)))
+        return 0
     metas = sorted((ROOT / "mutants").rglob("*.py.meta"))
     if not metas:
         print("no mutmut results under mutants/: run `make mutation` first")

@@ -321,3 +321,62 @@ def test_upper_median_and_shares_of_hours_by_hand():
     assert t == {"minimum": 0.0, "medium": 0.0, "high": 0.0}
     t, _, _ = assess.climate_shares(np.zeros((0, 4)), THRESHOLDS, "hours_first")
     assert t == {"minimum": 0.0, "medium": 0.0, "high": 0.0}
+
+
+# --- assess.py: the shares on their thresholds (issue 46) -------------------------------------------
+
+
+def _df_room(df_pct, err_pct, median_lx, thresholds=THRESHOLDS):
+    sc = SimpleNamespace(value=np.asarray(df_pct, float) / 100.0, bound=np.asarray(err_pct, float) / 100.0)
+    n = len(df_pct)
+    refl = SimpleNamespace(value=np.zeros(n), error=np.zeros(n), rays=np.zeros(n, int))
+    return assess.daylight_factor_room(np.zeros((n, 3)), sc, refl, median_lx, "weather", thresholds, {})
+
+
+def test_daylight_factor_shares_count_a_point_exactly_on_a_threshold():
+    # median 12 800 lx: D_T 2.34375 / 3.90625 / 5.859375 %, D_TM 0.78125 / 2.34375 / 3.90625 % (exact in binary)
+    r = _df_room([2.34375, 0.78125, 3.90625, 5.859375], [0.0] * 4, 12800.0)
+    assert r.target_share == {"minimum": 0.75, "medium": 0.5, "high": 0.25}
+    assert r.minimum_share == {"minimum": 1.0, "medium": 0.75, "high": 0.5}
+    # no error: only a point exactly on a threshold lies within its error of it
+    assert r.target_share_err == {"minimum": 0.25, "medium": 0.25, "high": 0.25}
+    assert r.minimum_share_err == {"minimum": 0.25, "medium": 0.25, "high": 0.25}
+    # four times the median: D_T 0.5859375 %, D_TM 0.1953125 % (below 1 %)
+    r = _df_room([0.5859375, 0.1953125, 10.0], [0.0] * 3, 51200.0)
+    assert r.target_share_err["minimum"] == pytest.approx(1 / 3) and r.minimum_share_err["minimum"] == pytest.approx(1 / 3)
+    # an empty plane: every share and error 0 (no mean of nothing)
+    e = _df_room([], [], 12800.0)
+    for d in (e.target_share, e.minimum_share, e.target_share_err, e.minimum_share_err):
+        assert d == {"minimum": 0.0, "medium": 0.0, "high": 0.0}
+
+
+def test_a_threshold_of_zero_has_no_error_share():
+    # a practice that asks no minimum target (D_TM 0 at the minimum level): every point reaches it, none is
+    # within its error of it, even a point of D = 0 with no error
+    th = {k: dict(v) for k, v in standard.THRESHOLDS.items()}
+    th["daylight_minimum_target_lx"]["minimum"] = 0.0
+    th["daylight_target_lx"]["minimum"] = 0.0
+    r = _df_room([0.0, 1.0], [0.0, 0.0], 12800.0, Thresholds.from_dict(th))
+    assert r.minimum_share["minimum"] == 1.0 and r.minimum_share_err["minimum"] == 0.0
+    assert r.target_share["minimum"] == 1.0 and r.target_share_err["minimum"] == 0.0
+
+
+def test_judge_near_the_minimum_level_alone():
+    zero = {"minimum": 0.0, "medium": 0.0, "high": 0.0}
+    t = {"minimum": 0.55, "medium": 0.1, "high": 0.0}
+    m = {"minimum": 0.99, "medium": 0.2, "high": 0.0}
+    assert assess.judge(t, m, {**zero, "minimum": 0.1}, zero) == (1, True)  # 0.55 is 0.05 from 0.5
+    assert assess.judge(t, m, zero, {**zero, "minimum": 0.05}) == (1, True)  # 0.99 is 0.04 from 0.95
+    assert assess.judge(t, m, {**zero, "minimum": 0.04}, zero) == (1, False)
+
+
+def test_two_replicates_have_an_interval():
+    m, e = assess.mean_and_error(np.array([[1.0, 3.0]]))
+    assert m.tolist() == [2.0] and e.tolist() == pytest.approx([12.706 * math.sqrt(2.0) / math.sqrt(2.0)], rel=1e-12)
+
+
+def test_points_first_counts_an_hour_exactly_at_the_illuminance():
+    # two points, two hours; 500 lx exactly is reached
+    e = np.array([[500.0, 0.0], [500.0, 750.0]])
+    t, m, _ = assess.climate_shares(e, THRESHOLDS, "points_first")
+    assert t == {"minimum": 1.0, "medium": 1.0, "high": 0.5} and m == {"minimum": 1.0, "medium": 1.0, "high": 1.0}

@@ -655,3 +655,43 @@ def test_path_coefficients_of_one_ray_per_point(monkeypatch):
     S = SimpleNamespace(window_rays=1, engine=SimpleNamespace(threads=1))
     dc = climate.path_coefficients(S, "oct", np.array([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]), 1, 1, 0, [], np.eye(3), np.zeros(3))
     assert dc[1, 3] == 0.5 and dc.sum() == 0.5
+
+
+def test_each_round_draws_from_its_own_fixed_stream(monkeypatch):
+    # rounds r = 0, 1, 2, ... draw their directions from default_rng([SEED, r]) (and the paths from
+    # [SEED, r, 1]): the same numbers on every run, other numbers in every round
+    firsts, path_seeds = [], []
+    real = gather.cosine_directions
+
+    def directions(n, m, rng, frame):
+        firsts.append(float(rng.random()))
+        return real(n, m, rng, frame)
+
+    def trace(octree, o, d, args, processes=1):
+        k = np.arange(len(o))
+        return 0.3 * (k % 2) + 0.01, np.zeros(len(o)), np.full(len(o), 5.0)  # noisy: rounds to the end
+
+    monkeypatch.setattr(gather, "cosine_directions", directions)
+    monkeypatch.setattr(gather.radiance, "trace", trace)
+    s = gather.GatherSettings(rays=4, max_rays=40)
+    r = gather.reflected("oct", np.zeros((1, 3)), 1.0, s, np.eye(3))
+    want = [float(np.random.default_rng([gather.SEED, k]).random()) for k in range(len(firsts))]
+    assert len(firsts) >= 3 and firsts == want
+    assert r.rays.dtype.kind == "i" and r.rays.tolist() == [4 + 4 + 9 + 16]  # 2 x 33 > 40 ends it
+
+    def trace_paths(S_, o, d, window_rays, seed):
+        path_seeds.append(list(seed))
+        return 0.3 * (np.arange(len(o)) % 2) + 0.01, transport.Requests(), np.ones(len(o), bool)
+
+    monkeypatch.setattr(transport, "trace_paths", trace_paths)
+    firsts.clear()
+    r = gather.reflected_paths(SimpleNamespace(window_rays=1), "oct", np.zeros((1, 3)), 1.0, s, np.eye(3))
+    assert firsts == want and path_seeds == [[gather.SEED, k, 1] for k in range(len(want))]
+    assert r.rays.dtype.kind == "i"
+
+
+def test_no_points_no_rays():
+    s = gather.GatherSettings()
+    for r in (gather.reflected("oct", np.zeros((0, 3)), 1.0, s, np.eye(3)),
+              gather.reflected_paths(None, "oct", np.zeros((0, 3)), 1.0, s, np.eye(3))):
+        assert r.value.shape == (0,) and r.error.shape == (0,) and r.rays.shape == (0,) and r.rays.dtype.kind == "i"
