@@ -230,3 +230,23 @@ def test_affine_inverse_undoes_a_map_conversion_by_hand():
     mapped = np.array([[85000 + s * (1 * a - 2 * b), 446000 + s * (1 * b + 2 * a), 13.0]])
     p, d = affine_inverse(forward, mapped, np.array([[a, b, 0.0]]))
     assert np.allclose(p, [[1, 2, 3]], atol=1e-9) and np.allclose(d, [[1, 0, 0]], atol=1e-9)
+
+
+def test_a_bcf_library_opens_it_and_reads_the_topics_and_their_components(run, tmp_path):
+    """IfcOpenShell's BCF library (bcf-client, the reader BlenderBIM/Bonsai uses) loads the file and
+    finds each topic's title, viewpoint and selected components: the room's IfcSpace among them."""
+    bcfxml = pytest.importorskip("bcf.v2.bcfxml")
+    path = tmp_path / "topics.bcf"
+    path.write_bytes(run["bcf"])
+    f = ifcopenshell.open(str(run["ifc"]))
+    spaces = {s.GlobalId for s in f.by_type("IfcSpace")}
+    with bcfxml.BcfXml.load(path) as bcf:
+        topics = bcf.topics
+        assert set(topics) == {n.split("/")[0] for n in members(run["bcf"]) if n.endswith("/markup.bcf")}
+        for guid, handler in topics.items():
+            assert handler.topic.guid == guid and handler.topic.title.endswith("required")
+            (viewpoint,) = handler.viewpoints.values()
+            selected = {c.ifc_guid for c in viewpoint.visualization_info.components.selection.component}
+            assert selected & spaces, handler.topic.title
+            assert all(f.by_guid(g).is_a() in ("IfcSpace", "IfcWindow", "IfcDoor", "IfcPlate", "IfcCurtainWall")
+                       for g in selected)

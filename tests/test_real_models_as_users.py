@@ -85,6 +85,15 @@ def back_into_the_bim(model: Path, report: dict, bcf: Path, ifc: Path) -> None:
                 for gid in re.findall(r'IfcGuid="([^"]+)"', z.read(name).decode("utf-8")):
                     assert f.by_guid(gid).is_a() in ("IfcSpace", "IfcWindow", "IfcDoor", "IfcPlate") or \
                         any(f.by_guid(gid).is_a(c) for c in ("IfcWindow", "IfcDoor", "IfcPlate")), gid
+        topics = {n.split("/")[0] for n in z.namelist() if n.endswith("/markup.bcf")}
+    try:  # and IfcOpenShell's BCF library (bcf-client, the test extra) reads every topic of it
+        from bcf.v2.bcfxml import BcfXml
+    except ImportError:
+        BcfXml = None
+    if BcfXml is not None:
+        with BcfXml.load(bcf) as b:
+            assert set(b.topics) == topics
+            assert all(h.topic.title and len(h.viewpoints) == 1 for h in b.topics.values())
     out = ifcopenshell.open(str(ifc))
     rooms = {r["source"]["ids"][0]: r for r in report["rooms"] if r["source"]["format"] == "ifc"}
     for gid, room in rooms.items():
