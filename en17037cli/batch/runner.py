@@ -100,10 +100,12 @@ def run_batch(specs: list[RunSpec], executor, out: Path, on_done: Callable[[RunR
     return [records[s.index] for s in specs]
 
 
-def make_executor(jobs: int | None = None, scheduler: str | None = None, processes: bool = True):
+def make_executor(jobs: int | None = None, scheduler: str | None = None, processes: bool = True,
+                  cleanup: Callable[[], None] = clear_sessions):
     """The executor of a batch: in this process for one job, a local process pool for more, or a
     Dask cluster (``scheduler``: an address, or ``local`` for a LocalCluster of ``jobs`` workers).
-    Each worker's ray engine gets ``cores // jobs`` threads."""
+    Each worker's ray engine gets ``cores // jobs`` threads; ``cleanup`` empties the caches an
+    in-process or Dask run leaves in its workers (the batch's sessions, the screen's contexts)."""
     from en17037cli.scale import InlineExecutor, PoolExecutor
 
     cores = available_cores()
@@ -112,9 +114,9 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None, process
     if scheduler is not None:
         from en17037cli.scale.dask import DaskExecutor
 
-        return DaskExecutor(scheduler, jobs=jobs, threads_per_worker=threads, processes=processes, cleanup=clear_sessions)
+        return DaskExecutor(scheduler, jobs=jobs, threads_per_worker=threads, processes=processes, cleanup=cleanup)
     if jobs == 1:
-        return InlineExecutor(cleanup=clear_sessions)
+        return InlineExecutor(cleanup=cleanup)
     return PoolExecutor(jobs, init_worker, (threads,))
 
 

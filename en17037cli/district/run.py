@@ -95,21 +95,11 @@ def site(project, crs: str | None, centre, where: str, display: str) -> tuple[fl
 
 
 def make_executor(jobs: int | None, scheduler: str | None, processes: bool = True):
-    """This process (one job), a local process pool (``jobs``, default every core) or a Dask cluster."""
-    from en17037cli.batch.worker import init_worker
-    from en17037cli.raytrace import available_cores
-    from en17037cli.scale import InlineExecutor, PoolExecutor
+    """This process (one job), a local process pool (``jobs``, default every core) or a Dask cluster:
+    the batch's executor (:func:`en17037cli.batch.runner.make_executor`), emptying the screen's contexts."""
+    from en17037cli.batch.runner import make_executor as batch_executor
 
-    cores = available_cores()
-    jobs = jobs or cores
-    threads = max(1, cores // jobs)
-    if scheduler is not None:
-        from en17037cli.scale.dask import DaskExecutor
-
-        return DaskExecutor(scheduler, jobs=jobs, threads_per_worker=threads, processes=processes, cleanup=clear_contexts)
-    if jobs == 1:
-        return InlineExecutor(cleanup=clear_contexts)
-    return PoolExecutor(jobs, init_worker, (threads,))
+    return batch_executor(jobs, scheduler, processes, cleanup=clear_contexts)
 
 
 def run_tasks(executor, spec: Spec, chosen: list, per_task: int, log) -> list:

@@ -16,6 +16,7 @@ import zlib
 
 import numpy as np
 import pytest
+from test_pictures import png_chunks  # the PNG chunk reader its tests use
 
 from en17037cli.report.pictures import raster
 from en17037cli.report.pictures.canvas import MIN_FONT_PT, Canvas, xml_text
@@ -31,13 +32,6 @@ def decode(png: bytes) -> np.ndarray:
     return np.asarray(PIL.open(io.BytesIO(png)).convert("RGB"))
 
 
-def chunks(png: bytes) -> list[tuple[bytes, bytes]]:
-    out, i = [], 8
-    while i < len(png):
-        (n,) = struct.unpack(">I", png[i:i + 4])
-        out.append((png[i + 4:i + 8], png[i + 8:i + 8 + n]))
-        i += 12 + n
-    return out
 
 
 def test_png_file_holds_the_pixels_and_nothing_else():
@@ -45,11 +39,11 @@ def test_png_file_holds_the_pixels_and_nothing_else():
     rgb = rng.integers(0, 256, (37, 53, 3), dtype=np.uint8)
     png = encode_png(rgb, dpi=100 / 0.69)
     assert np.array_equal(decode(png), rgb)
-    kinds = [k for k, _ in chunks(png)]
+    kinds = [k for k, _ in png_chunks(png)]
     assert kinds == [b"IHDR", b"pHYs", b"IDAT", b"IEND"]  # no date, no text, no version string
-    ppm = struct.unpack(">IIB", dict(chunks(png))[b"pHYs"])
+    ppm = struct.unpack(">IIB", dict(png_chunks(png))[b"pHYs"])
     assert ppm == (5706, 5706, 1)  # 144.93 dpi / 0.0254 m per inch = 5705.8 pixels per metre
-    raw = zlib.decompress(dict(chunks(png))[b"IDAT"])
+    raw = zlib.decompress(dict(png_chunks(png))[b"IDAT"])
     assert len(raw) == 37 * (1 + 3 * 53) and all(raw[r * (1 + 3 * 53)] == 0 for r in range(37))  # every row unfiltered
     rgbx = np.concatenate([rgb, np.full((37, 53, 1), 9, np.uint8)], axis=2)
     assert encode_png(rgbx, dpi=100 / 0.69) == png  # RGBX: the fourth byte left out
